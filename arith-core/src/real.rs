@@ -1,0 +1,234 @@
+//! The two traits every model and arithmetic is written against.
+
+use core::fmt::Debug;
+use core::ops::{Add, Div, Mul, Neg, Sub};
+
+/// The operations a model is written with.
+///
+/// Implemented by `f64` (point evaluation, plain IEEE round-to-nearest, no enclosure
+/// guarantee) and by every [`Range`] (sound enclosures). Generic model code takes
+/// `R: Real` and so serves points, every arithmetic and operation counting alike.
+///
+/// `f64` operands are accepted on the right of `+ - * /`; each concrete type also
+/// implements them with `f64` on the left (`2.0 * x`), but generic code cannot name
+/// those impls without extra bounds, so it writes `x * 2.0` or [`Real::rsub`].
+pub trait Real:
+    Sized
+    + Clone
+    + Debug
+    + Send
+    + Sync
+    + 'static
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+    + Add<f64, Output = Self>
+    + Sub<f64, Output = Self>
+    + Mul<f64, Output = Self>
+    + Div<f64, Output = Self>
+{
+    /// The exact constant `c` (a degenerate range `[c, c]`).
+    fn constant(c: f64) -> Self;
+    /// `x^2`. Affine arithmetics implement it as one non-affine operation, never wider
+    /// than `x * x`.
+    fn sqr(&self) -> Self;
+    /// `x^n` for an integer `n` (negative `n` means `recip(x^|n|)`, `x^0 = 1`).
+    fn powi(&self, n: i32) -> Self;
+    /// Square root on the reals extended by `sqrt(x) = sqrt(max(x, 0))`, the paper's
+    /// reading: the part of a range below 0 is clipped, and a range wholly below 0 gives
+    /// exactly `0`.
+    fn sqrt(&self) -> Self;
+    /// `1 / x`.
+    fn recip(&self) -> Self;
+    /// `e^x`.
+    fn exp(&self) -> Self;
+    /// Natural logarithm; `ln(x) = -inf` for `x <= 0`.
+    fn ln(&self) -> Self;
+    /// Sine.
+    fn sin(&self) -> Self;
+    /// Cosine.
+    fn cos(&self) -> Self;
+    /// `|x|`.
+    fn abs(&self) -> Self;
+    /// `min(x, y)`.
+    fn min(&self, other: &Self) -> Self;
+    /// `max(x, y)`.
+    fn max(&self, other: &Self) -> Self;
+    /// `c - x` (an `f64` on the left, in generic code).
+    fn rsub(self, c: f64) -> Self {
+        -self + c
+    }
+    /// `c / x` (an `f64` on the left, in generic code).
+    fn rdiv(self, c: f64) -> Self {
+        self.recip() * c
+    }
+}
+
+/// The linear part of an affine form on its first input symbol:
+/// the value lies in `f0 + f1 * eps1 + [-e, e]` for some `eps1 ∈ [-1, 1]` that is the
+/// first input's own noise symbol. Used by argument pruning (Algorithm 1, Section 4.1.2).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Linear {
+    /// Centre.
+    pub f0: f64,
+    /// Coefficient of the first input symbol.
+    pub f1: f64,
+    /// Radius of everything else (other symbols, accumulated error), rounded up, `>= 0`.
+    pub e: f64,
+}
+
+/// A sound enclosure: a [`Real`] whose every value encloses the real function's values.
+///
+/// # Contract
+///
+/// Let `F` be a composition of [`Real`] operations applied to inputs created by
+/// [`Range::input`], [`Range::from_interval`] and [`Real::constant`]. For every choice of
+/// real input points inside their ranges, the real value of `F` at those points (with
+/// the extended definitions of [`Real::sqrt`] and [`Real::ln`]) lies in
+/// [`Range::bounds`] of the computed range, after every `f64` rounding.
+///
+/// Domain edges and overflow widen, never narrow:
+/// - `sqrt` of a range partly below 0 works on the part at or above 0; wholly below 0
+///   gives `[0, 0]`.
+/// - `ln` of a range reaching 0 or below has lower bound `-inf` (affine forms become the
+///   whole line).
+/// - `recip` (and `/`) of a range holding 0 gives the whole line `(-inf, +inf)`.
+/// - Overflow gives infinite bounds.
+/// - Bounds are never NaN, so [`Range::contains_zero`] never answers "no" by accident.
+pub trait Range: Real {
+    /// Short lower-case name used on command lines and in tables: `ia`, `aa`, ...
+    const NAME: &'static str;
+    /// How many independent inputs get their own noise symbol. An input with a larger
+    /// index is still enclosed soundly, but without correlation.
+    const INPUTS: usize;
+
+    /// The `i`-th independent input, ranging over `[lo, hi]` (`lo <= hi`, finite).
+    /// Inputs with distinct `i` are independent; the same `i` used twice in one
+    /// evaluation denotes the same variable.
+    fn input(i: usize, lo: f64, hi: f64) -> Self;
+    /// A value only known to lie in `[lo, hi]`, independent of every other value
+    /// (affine forms give it a fresh symbol or error term).
+    fn from_interval(lo: f64, hi: f64) -> Self;
+    /// The enclosure `[lo, hi]`; never NaN; `-inf`/`+inf` when unbounded.
+    fn bounds(&self) -> (f64, f64);
+    /// Whether `0 ∈ bounds()`.
+    fn contains_zero(&self) -> bool {
+        let (lo, hi) = self.bounds();
+        // Written so that a NaN bound (which would break the contract) answers "yes".
+        !(lo > 0.0 || hi < 0.0)
+    }
+    /// The linear part on the first input symbol, for argument pruning. `None` for
+    /// arithmetics without one (intervals) or for unbounded forms.
+    fn linear_part(&self) -> Option<Linear> {
+        None
+    }
+    /// The enclosure after fixing the input symbols at `eps[i] ∈ [-1, 1]` (input `i`
+    /// fixed at the point `mid_i + rad_i * eps[i]`), leaving every symbol created by an
+    /// operation free. Sound (outward rounded). Arithmetics without symbols return
+    /// [`Range::bounds`]; this is what the joint-inclusion property tests check.
+    fn bounds_at_inputs(&self, eps: &[f64]) -> (f64, f64) {
+        let _ = eps;
+        self.bounds()
+    }
+}
+
+/// One arithmetic as a family of forms: what the tracer, the tests and the benches
+/// iterate over. Rays use the shortest form; cells use three independent inputs.
+pub trait Arithmetic: Send + Sync + 'static {
+    /// Lower-case name (`ia`, `aa`, `raa`, `revaa`).
+    const NAME: &'static str;
+    /// Display label as in the paper's tables (`IA`, `AA`, `RAA*`, `RevAA`).
+    const LABEL: &'static str;
+    /// Form for a ray: one input (`t`).
+    type Ray: Range;
+    /// Form for a 3-D cell: three independent inputs (`x`, `y`, `z`).
+    type Cell: Range;
+}
+
+
+impl Real for f64 {
+    fn constant(c: f64) -> Self {
+        c
+    }
+    fn sqr(&self) -> Self {
+        self * self
+    }
+    fn powi(&self, n: i32) -> Self {
+        f64::powi(*self, n)
+    }
+    fn sqrt(&self) -> Self {
+        f64::sqrt(f64::max(*self, 0.0))
+    }
+    fn recip(&self) -> Self {
+        1.0 / self
+    }
+    fn exp(&self) -> Self {
+        f64::exp(*self)
+    }
+    fn ln(&self) -> Self {
+        if *self <= 0.0 {
+            f64::NEG_INFINITY
+        } else {
+            f64::ln(*self)
+        }
+    }
+    fn sin(&self) -> Self {
+        f64::sin(*self)
+    }
+    fn cos(&self) -> Self {
+        f64::cos(*self)
+    }
+    fn abs(&self) -> Self {
+        f64::abs(*self)
+    }
+    fn min(&self, other: &Self) -> Self {
+        f64::min(*self, *other)
+    }
+    fn max(&self, other: &Self) -> Self {
+        f64::max(*self, *other)
+    }
+    fn rsub(self, c: f64) -> Self {
+        c - self
+    }
+    fn rdiv(self, c: f64) -> Self {
+        c / self
+    }
+}
+
+/// Implements `f64 + T`, `f64 - T`, `f64 * T`, `f64 / T` for a concrete [`Real`] type in
+/// terms of its `T op f64` impls, so users of a concrete type can write `2.0 * x`.
+/// For a type with a const parameter: `impl_f64_lhs_ops!(<const N: usize> RevAa<N>);`
+#[macro_export]
+macro_rules! impl_f64_lhs_ops {
+    ($t:ty) => {
+        $crate::impl_f64_lhs_ops!(<> $t);
+    };
+    (<$(const $n:ident : $nt:ty)?> $t:ty) => {
+        impl<$(const $n: $nt)?> ::core::ops::Add<$t> for f64 {
+            type Output = $t;
+            fn add(self, rhs: $t) -> $t {
+                rhs + self
+            }
+        }
+        impl<$(const $n: $nt)?> ::core::ops::Sub<$t> for f64 {
+            type Output = $t;
+            fn sub(self, rhs: $t) -> $t {
+                $crate::Real::rsub(rhs, self)
+            }
+        }
+        impl<$(const $n: $nt)?> ::core::ops::Mul<$t> for f64 {
+            type Output = $t;
+            fn mul(self, rhs: $t) -> $t {
+                rhs * self
+            }
+        }
+        impl<$(const $n: $nt)?> ::core::ops::Div<$t> for f64 {
+            type Output = $t;
+            fn div(self, rhs: $t) -> $t {
+                $crate::Real::rdiv(rhs, self)
+            }
+        }
+    };
+}

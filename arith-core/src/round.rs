@@ -1,0 +1,157 @@
+//! Rounding helpers. We never switch the FPU rounding mode (undefined behaviour in
+//! Rust); every operation rounds to nearest and we bound its error instead.
+//!
+//! Facts used throughout (IEEE 754 binary64, round to nearest):
+//! - the exact result `x` of one `+ - * /` or `sqrt` and its rounded value `r` satisfy
+//!   `|x - r| <= ulp(r)/2 <= max(|r| * 2^-53, 2^-1074)` ([`err`]);
+//! - hence `next_down(r) <= x <= next_up(r)` ([`add_up`], [`mul_down`], ...).
+
+/// `2^-53`, the unit roundoff of round-to-nearest binary64.
+pub const U: f64 = 1.0 / 9_007_199_254_740_992.0;
+/// The smallest positive subnormal, `2^-1074`.
+pub const ETA: f64 = f64::from_bits(1);
+
+/// Upper bound on the rounding error of one correctly rounded operation whose rounded
+/// result is `r`. Infinite (or NaN-free infinite) when `r` is not finite.
+#[inline]
+pub fn err(r: f64) -> f64 {
+    if r.is_finite() {
+        f64::max(r.abs() * U, ETA)
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// The next float up (`+inf` stays, NaN becomes `+inf` so bounds never turn NaN).
+#[inline]
+pub fn up(x: f64) -> f64 {
+    if x.is_nan() {
+        f64::INFINITY
+    } else {
+        x.next_up()
+    }
+}
+
+/// The next float down (`-inf` stays, NaN becomes `-inf`).
+#[inline]
+pub fn down(x: f64) -> f64 {
+    if x.is_nan() {
+        f64::NEG_INFINITY
+    } else {
+        x.next_down()
+    }
+}
+
+/// An upper bound of `a + b`.
+#[inline]
+pub fn add_up(a: f64, b: f64) -> f64 {
+    up(a + b)
+}
+/// A lower bound of `a + b`.
+#[inline]
+pub fn add_down(a: f64, b: f64) -> f64 {
+    down(a + b)
+}
+/// An upper bound of `a - b`.
+#[inline]
+pub fn sub_up(a: f64, b: f64) -> f64 {
+    up(a - b)
+}
+/// A lower bound of `a - b`.
+#[inline]
+pub fn sub_down(a: f64, b: f64) -> f64 {
+    down(a - b)
+}
+/// An upper bound of `a * b`.
+#[inline]
+pub fn mul_up(a: f64, b: f64) -> f64 {
+    let p = a * b;
+    // 0 * inf is NaN: the product of a bound with an unbounded factor is unbounded.
+    if p.is_nan() { f64::INFINITY } else { up(p) }
+}
+/// A lower bound of `a * b`.
+#[inline]
+pub fn mul_down(a: f64, b: f64) -> f64 {
+    let p = a * b;
+    if p.is_nan() { f64::NEG_INFINITY } else { down(p) }
+}
+/// An upper bound of `a / b`.
+#[inline]
+pub fn div_up(a: f64, b: f64) -> f64 {
+    up(a / b)
+}
+/// A lower bound of `a / b`.
+#[inline]
+pub fn div_down(a: f64, b: f64) -> f64 {
+    down(a / b)
+}
+
+/// Error-free sum (Knuth's TwoSum): `s + e == a + b` exactly, `s = fl(a + b)`.
+#[inline]
+pub fn two_sum(a: f64, b: f64) -> (f64, f64) {
+    let s = a + b;
+    let bb = s - a;
+    let e = (a - (s - bb)) + (b - bb);
+    (s, e)
+}
+
+/// Error-free product via fused multiply-add: `p + e == a * b` exactly (barring
+/// underflow of `e`, which the callers cover with [`ETA`]).
+#[inline]
+pub fn two_prod(a: f64, b: f64) -> (f64, f64) {
+    let p = a * b;
+    let e = a.mul_add(b, -p);
+    (p, e)
+}
+
+/// Relative error we allow std's `exp`, `ln`, `sin`, `cos` (whose precision Rust does
+/// not specify). glibc and the Rust fallbacks are within 1-2 ulp; we assume at most
+/// 8 ulp, i.e. `|fl(f(x)) - f(x)| <= 8 * 2 * U * |fl(f(x))| + ETA`, a generous margin.
+pub const LIBM_REL: f64 = 16.0 * U;
+
+/// A lower and an upper bound of the true value of a libm function whose computed
+/// value is `v`, under the [`LIBM_REL`] assumption.
+#[inline]
+pub fn libm_enclose(v: f64) -> (f64, f64) {
+    if v.is_nan() {
+        return (f64::NEG_INFINITY, f64::INFINITY);
+    }
+    let m = v.abs() * LIBM_REL + ETA;
+    (down(v - m), up(v + m))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn err_bounds_one_rounding() {
+        // 0.1 + 0.2 is not exact; the error bound must cover the true error.
+        let (s, e) = two_sum(0.1, 0.2);
+        assert!(e != 0.0);
+        assert!(e.abs() <= err(s));
+        let (p, e) = two_prod(0.1, 0.3);
+        assert!(e.abs() <= err(p));
+        assert_eq!(err(f64::INFINITY), f64::INFINITY);
+        assert_eq!(err(0.0), ETA);
+    }
+
+    #[test]
+    fn directed_ops_bracket_exact() {
+        let (s, e) = two_sum(1.0, 1e-20);
+        assert!(add_down(1.0, 1e-20) <= s && s + e <= add_up(1.0, 1e-20));
+        assert!(add_up(1.0, 1e-20) > 1.0);
+        assert!(mul_up(0.0, f64::INFINITY) == f64::INFINITY);
+        assert!(mul_down(0.0, f64::INFINITY) == f64::NEG_INFINITY);
+        assert_eq!(up(f64::NAN), f64::INFINITY);
+        assert_eq!(down(f64::NAN), f64::NEG_INFINITY);
+    }
+
+    #[test]
+    fn libm_enclosure_holds_known_values() {
+        let (lo, hi) = libm_enclose(1.0f64.exp());
+        assert!(lo < std::f64::consts::E && std::f64::consts::E < hi);
+        let (lo, hi) = libm_enclose(0.0);
+        assert!(lo < 0.0 && hi > 0.0);
+    }
+}
