@@ -202,9 +202,6 @@ impl Real for f64 {
 /// For a type with a const parameter: `impl_f64_lhs_ops!(<const N: usize> RevAa<N>);`
 #[macro_export]
 macro_rules! impl_f64_lhs_ops {
-    ($t:ty) => {
-        $crate::impl_f64_lhs_ops!(<> $t);
-    };
     (<$(const $n:ident : $nt:ty)?> $t:ty) => {
         impl<$(const $n: $nt)?> ::core::ops::Add<$t> for f64 {
             type Output = $t;
@@ -230,5 +227,10 @@ macro_rules! impl_f64_lhs_ops {
                 $crate::Real::rdiv(rhs, self)
             }
         }
+    };
+    // After the generic arm: a `ty` fragment that fails to parse (`<> T`) is a hard
+    // error, so the plain form must not be tried first.
+    ($t:ty) => {
+        $crate::impl_f64_lhs_ops!(<> $t);
     };
 }

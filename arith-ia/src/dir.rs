@@ -1,0 +1,205 @@
+//! Directed (outward) bounds of one `+ * /`, tight when the operation is exact.
+//!
+//! Each helper returns a lower (`_lo`) or upper (`_hi`) bound of the exact result of one
+//! operation on two `f64`s. The rounded-to-nearest result is kept as is when an
+//! error-free transformation shows it is already on the right side of the exact value,
+//! and moved one ulp outward otherwise (one rounding is at most half an ulp off).
+//! Near underflow, where the error terms themselves may be inexact, we always move
+//! outward. Overflow to `±inf` of a product of finite numbers keeps the finite side
+//! (`f64::MAX` is a valid lower bound of something that rounded to `+inf`).
+//!
+//! A NaN result (`inf - inf`, `0 * inf`, `inf / inf`) is returned as NaN; the caller
+//! turns a NaN lower bound into `-inf` and a NaN upper bound into `+inf`.
+
+use arith_core::round::two_sum;
+
+/// Below this magnitude the error term of a product/quotient may underflow, so its sign
+/// cannot be trusted: we then widen unconditionally. (`2^-900`, far above `2^-1022`.)
+const TINY: f64 = f64::from_bits(123 << 52);
+
+#[inline]
+fn finite2(a: f64, b: f64) -> bool {
+    a.is_finite() && b.is_finite()
+}
+
+/// Lower bound of `a + b`.
+#[inline]
+pub fn add_lo(a: f64, b: f64) -> f64 {
+    let s = a + b;
+    if s.is_finite() {
+        let (_, e) = two_sum(a, b);
+        if e < 0.0 || !e.is_finite() {
+            s.next_down()
+        } else {
+            s
+        }
+    } else if s == f64::INFINITY && finite2(a, b) {
+        f64::MAX
+    } else {
+        s
+    }
+}
+
+/// Upper bound of `a + b`.
+#[inline]
+pub fn add_hi(a: f64, b: f64) -> f64 {
+    -add_lo(-a, -b)
+}
+
+/// Lower bound of `a * b`.
+#[inline]
+pub fn mul_lo(a: f64, b: f64) -> f64 {
+    let p = a * b;
+    if p.is_nan() {
+        return p;
+    }
+    if p.is_infinite() {
+        return if p > 0.0 && finite2(a, b) {
+            f64::MAX
+        } else {
+            p
+        };
+    }
+    if a == 0.0 || b == 0.0 {
+        return p;
+    }
+    if p.abs() >= TINY {
+        let e = a.mul_add(b, -p);
+        if e < 0.0 {
+            p.next_down()
+        } else {
+            p
+        }
+    } else {
+        p.next_down()
+    }
+}
+
+/// Upper bound of `a * b`.
+#[inline]
+pub fn mul_hi(a: f64, b: f64) -> f64 {
+    -mul_lo(-a, b)
+}
+
+/// Lower bound of `a / b` (NaN for `b == 0`: callers exclude divisors holding 0).
+#[inline]
+pub fn div_lo(a: f64, b: f64) -> f64 {
+    if b == 0.0 {
+        return f64::NAN;
+    }
+    let q = a / b;
+    if q.is_nan() {
+        return q;
+    }
+    if q.is_infinite() {
+        return if q > 0.0 && finite2(a, b) {
+            f64::MAX
+        } else {
+            q
+        };
+    }
+    if a == 0.0 || !finite2(a, b) {
+        // 0 / b and finite / inf are exact (the latter as a limit: the corners of an
+        // unbounded interval quotient).
+        return q;
+    }
+    if q.abs() >= TINY && a.abs() >= TINY {
+        // r = a - q*b exactly (no underflow here); a/b - q = r/b.
+        let r = (-q).mul_add(b, a);
+        if r != 0.0 && ((r < 0.0) != (b < 0.0)) {
+            q.next_down()
+        } else {
+            q
+        }
+    } else {
+        q.next_down()
+    }
+}
+
+/// Upper bound of `a / b`.
+#[inline]
+pub fn div_hi(a: f64, b: f64) -> f64 {
+    -div_lo(-a, b)
+}
+
+/// Lower bound of `x^n` for `x >= 0`, `n >= 1` (binary powering; all factors are
+/// non-negative lower bounds, so their products stay lower bounds).
+pub fn pow_lo_nonneg(x: f64, n: u32) -> f64 {
+    pow_nonneg(x, n, |a, b| f64::max(mul_lo(a, b), 0.0))
+}
+
+/// Upper bound of `x^n` for `x >= 0`, `n >= 1`.
+pub fn pow_hi_nonneg(x: f64, n: u32) -> f64 {
+    pow_nonneg(x, n, |a, b| {
+        let p = mul_hi(a, b);
+        if p.is_nan() {
+            f64::INFINITY
+        } else {
+            p
+        }
+    })
+}
+
+#[inline]
+fn pow_nonneg(x: f64, mut n: u32, mul: impl Fn(f64, f64) -> f64) -> f64 {
+    let mut result = 1.0;
+    let mut base = x;
+    loop {
+        if n & 1 == 1 {
+            result = mul(result, base);
+        }
+        n >>= 1;
+        if n == 0 {
+            return result;
+        }
+        base = mul(base, base);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tiny_is_two_to_minus_900() {
+        assert_eq!(TINY, 2f64.powi(-900));
+    }
+
+    #[test]
+    fn exact_ops_stay_tight_inexact_ones_widen() {
+        assert_eq!(add_lo(1.0, 2.0), 3.0);
+        assert_eq!(add_hi(1.0, 2.0), 3.0);
+        // 0.1 + 0.2 rounds up to 0.30000000000000004: the lower bound must move down.
+        let s = 0.1 + 0.2;
+        assert!(add_lo(0.1, 0.2) < s && add_hi(0.1, 0.2) == s);
+        assert_eq!(mul_lo(3.0, 0.5), 1.5);
+        assert!(mul_lo(0.1, 0.1) < mul_hi(0.1, 0.1));
+        assert_eq!(div_lo(1.0, 4.0), 0.25);
+        assert!(div_lo(1.0, 3.0) < div_hi(1.0, 3.0));
+        assert!(div_lo(1.0, 3.0) * 3.0 <= 1.0);
+    }
+
+    #[test]
+    fn overflow_and_underflow_are_outward() {
+        assert_eq!(add_lo(f64::MAX, f64::MAX), f64::MAX);
+        assert_eq!(add_hi(f64::MAX, f64::MAX), f64::INFINITY);
+        assert_eq!(mul_lo(1e300, 1e300), f64::MAX);
+        assert!(mul_hi(1e-300, 1e-300) > 0.0);
+        assert!(mul_lo(1e-300, 1e-300) < mul_hi(1e-300, 1e-300));
+        assert!(div_hi(1e-300, 1e300) > 0.0);
+        assert!(mul_lo(0.0, f64::INFINITY).is_nan());
+        assert!(add_lo(f64::INFINITY, f64::NEG_INFINITY).is_nan());
+    }
+
+    #[test]
+    fn powers_bracket() {
+        assert_eq!(pow_lo_nonneg(3.0, 4), 81.0);
+        assert_eq!(pow_hi_nonneg(3.0, 4), 81.0);
+        assert_eq!(pow_lo_nonneg(1.5, 5), 7.59375);
+        // 1.1^5 is not a float: the bounds must differ, by a few ulps at most.
+        let (lo, hi) = (pow_lo_nonneg(1.1, 5), pow_hi_nonneg(1.1, 5));
+        assert!(lo < hi && hi - lo < 1e-14);
+        assert_eq!(pow_hi_nonneg(1e200, 3), f64::INFINITY);
+        assert_eq!(pow_lo_nonneg(1e200, 3), f64::MAX);
+    }
+}
