@@ -1,1 +1,649 @@
-//! (to be written)
+//! # arith-aa: standard affine arithmetic (de Figueiredo & Stolfi)
+//!
+//! An [`Aa`] is an affine form `x0 + Σ coef_k·ε_k` over noise symbols `ε_k ∈ [-1, 1]`,
+//! stored as a sparse list of `(symbol, coef)` sorted by symbol id. Input `i` of an
+//! evaluation uses the reserved symbol `i` (ids below [`INPUTS`]); every non-affine
+//! operation, every rounding error and [`Range::from_interval`] get a *fresh* symbol,
+//! so forms keep growing: that is what makes standard AA precise on correlated
+//! expressions and slow on long ones (the baseline of the papers' comparisons).
+//!
+//! Soundness: every operation rounds to nearest and bounds its own error (error-free
+//! sums, `err` bounds on products), sums those bounds with upward rounding and puts them
+//! on one fresh symbol per operation. Non-affine functions all go through the shared
+//! [`arith_core::approx`] approximations `f(x) ∈ alpha·x + zeta ± delta`.
+//!
+//! ```
+//! use arith_aa::Aa;
+//! use arith_core::{Range, Real};
+//!
+//! let x = Aa::input(0, 1.0, 2.0);
+//! // Correlation: x - x is exactly 0, where intervals would give [-1, 1].
+//! assert_eq!((x.clone() - x.clone()).bounds(), (0.0, 0.0));
+//! // Affine expressions are tight: 3x - 2x + 1 ranges over [2, 3].
+//! let y = 3.0 * x.clone() - 2.0 * x + 1.0;
+//! assert_eq!(y.bounds(), (2.0, 3.0));
+//! ```
+
+use arith_core::approx::{self, Approx};
+use arith_core::round::{add_down, add_up, err, mul_down, mul_up, sub_up, two_sum};
+use arith_core::{Arithmetic, Linear, Range, Real};
+use core::cell::Cell;
+use core::ops::{Add, Div, Mul, Neg, Sub};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// Number of reserved input symbols: input `i < INPUTS` uses symbol id `i`.
+pub const INPUTS: usize = 64;
+
+/// How many fresh ids a thread takes from the global counter at once, so that creating a
+/// symbol is a thread-local increment, not a contended atomic operation.
+const BLOCK: u64 = 1 << 16;
+
+/// Next free block of fresh ids. Block 0 would overlap the reserved input ids, so the
+/// counter starts at block 1.
+static NEXT_BLOCK: AtomicU64 = AtomicU64::new(1);
+
+thread_local! {
+    /// `(next, end)`: this thread's unused ids `next..end`.
+    static CURSOR: Cell<(u64, u64)> = const { Cell::new((0, 0)) };
+}
+
+/// A symbol id never handed out before, by any thread (ids are at least `BLOCK`, so
+/// never a reserved input id). Ids increase within one thread.
+pub fn fresh_symbol() -> u64 {
+    CURSOR.with(|c| {
+        let (mut next, mut end) = c.get();
+        if next == end {
+            let block = NEXT_BLOCK.fetch_add(1, Ordering::Relaxed);
+            next = block * BLOCK;
+            end = next + BLOCK;
+        }
+        c.set((next + 1, end));
+        next
+    })
+}
+
+/// An affine form `x0 + Σ coef·ε_sym`, or the unbounded form (the whole line).
+///
+/// Invariants: `terms` is sorted by strictly increasing symbol id and holds only
+/// non-zero finite coefficients; `x0` is finite, except for the unbounded form, which has
+/// `x0 = +inf` and no terms (so a non-finite centre is the one "unbounded" test).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Aa {
+    x0: f64,
+    terms: Vec<(u64, f64)>,
+}
+
+/// Standard affine arithmetic as an [`Arithmetic`]: rays and cells both use [`Aa`]
+/// (sparse forms pay only for the symbols they use).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct AaArith;
+
+impl Arithmetic for AaArith {
+    const NAME: &'static str = "aa";
+    const LABEL: &'static str = "AA";
+    type Ray = Aa;
+    type Cell = Aa;
+}
+
+/// Adds the error bound `e >= 0` (NaN meaning "unbounded") to the accumulator `acc`,
+/// rounding up; exact zeros leave it untouched so exact operations add no symbol.
+#[inline]
+fn acc_err(acc: &mut f64, e: f64) {
+    if e != 0.0 {
+        *acc = add_up(*acc, e.abs());
+    }
+}
+
+/// Rounding-error bound of the product `r = fl(a * b)`: zero when `b` is `±1`, `0` or a
+/// power of two and `r` is normal (exact scaling), else [`err`].
+#[inline]
+fn mul_err(r: f64, b_exact_scale: bool) -> f64 {
+    if b_exact_scale && (r == 0.0 || r.abs() >= f64::MIN_POSITIVE) && r.is_finite() {
+        0.0
+    } else {
+        err(r)
+    }
+}
+
+/// Whether multiplying by `c` only shifts the exponent (`c = ±2^k` or `0`), so the
+/// product is exact unless it leaves the normal range.
+#[inline]
+fn is_exact_scale(c: f64) -> bool {
+    c == 0.0 || (c.is_normal() && c.to_bits() & ((1u64 << 52) - 1) == 0)
+}
+
+impl Aa {
+    /// The unbounded form: bounds `(-inf, +inf)`.
+    pub fn entire() -> Aa {
+        Aa {
+            x0: f64::INFINITY,
+            terms: Vec::new(),
+        }
+    }
+
+    /// Whether this is the unbounded form.
+    #[inline]
+    pub fn is_entire(&self) -> bool {
+        !self.x0.is_finite()
+    }
+
+    /// The centre `x0` (`+inf` for the unbounded form).
+    pub fn centre(&self) -> f64 {
+        self.x0
+    }
+
+    /// The `(symbol id, coefficient)` terms, sorted by id.
+    pub fn terms(&self) -> &[(u64, f64)] {
+        &self.terms
+    }
+
+    /// Sum of `|coef|` over all terms, rounded up (the radius).
+    pub fn radius(&self) -> f64 {
+        let mut r = 0.0;
+        for &(_, c) in &self.terms {
+            acc_err(&mut r, c);
+        }
+        r
+    }
+
+    /// The form `mid + rad·ε_sym` enclosing `[lo, hi]`; unbounded for bad bounds.
+    fn with_symbol(sym: u64, lo: f64, hi: f64) -> Aa {
+        if !(lo.is_finite() && hi.is_finite() && lo <= hi) {
+            return Aa::entire();
+        }
+        // Halving each bound is exact (barring subnormals, covered by the rounded-up
+        // radius below), and cannot overflow like `lo + hi`.
+        let mid = 0.5 * lo + 0.5 * hi;
+        let rad = f64::max(sub_up(hi, mid), sub_up(mid, lo));
+        let rad = if lo == hi && mid == lo { 0.0 } else { rad };
+        let mut terms = Vec::new();
+        if rad != 0.0 {
+            terms.push((sym, rad));
+        }
+        Aa { x0: mid, terms }.finish(0.0)
+    }
+
+    /// Puts the accumulated error bound `e` on a fresh symbol (if non-zero) and turns
+    /// any overflow into the unbounded form.
+    #[inline]
+    fn finish(mut self, e: f64) -> Aa {
+        if !(self.x0.is_finite() && e.is_finite()) {
+            return Aa::entire();
+        }
+        if e != 0.0 {
+            push_symbol(&mut self.terms, fresh_symbol(), e);
+        }
+        self
+    }
+
+    /// `self + s·other` for `s = ±1`, merging in place into `self`'s buffer.
+    fn add_signed(mut self, other: &Aa, s: f64) -> Aa {
+        if self.is_entire() || other.is_entire() {
+            return Aa::entire();
+        }
+        let (c0, e0) = two_sum(self.x0, s * other.x0);
+        self.x0 = c0;
+        let mut e = 0.0;
+        acc_err(&mut e, e0);
+        let b = &other.terms;
+        if !b.is_empty() {
+            let a = &mut self.terms;
+            let (n, m) = (a.len(), b.len());
+            a.resize(n + m, (0, 0.0));
+            // Merge from the back: slot k-1 is always at or after the unread a[..i]
+            // (k - i >= j >= 1 while b has unread terms), so nothing is overwritten early.
+            let (mut i, mut j, mut k) = (n, m, n + m);
+            while j > 0 {
+                let (bs, bc) = b[j - 1];
+                if i > 0 && a[i - 1].0 > bs {
+                    k -= 1;
+                    a[k] = a[i - 1];
+                    i -= 1;
+                } else if i > 0 && a[i - 1].0 == bs {
+                    let (c, ce) = two_sum(a[i - 1].1, s * bc);
+                    acc_err(&mut e, ce);
+                    i -= 1;
+                    j -= 1;
+                    if c != 0.0 {
+                        k -= 1;
+                        a[k] = (bs, c);
+                    }
+                } else {
+                    k -= 1;
+                    a[k] = (bs, s * bc);
+                    j -= 1;
+                }
+            }
+            // a[..i] is in place; close the gap between it and the merged tail.
+            if i < k {
+                a.copy_within(k..n + m, i);
+                a.truncate(i + (n + m - k));
+            }
+        }
+        self.finish(e)
+    }
+
+    /// `c·self` in place.
+    fn scale(mut self, c: f64) -> Aa {
+        if self.is_entire() || !c.is_finite() {
+            return Aa::entire();
+        }
+        if c == 0.0 {
+            self.x0 = 0.0;
+            self.terms.clear();
+            return self;
+        }
+        if c == 1.0 {
+            return self;
+        }
+        let exact = is_exact_scale(c);
+        let mut e = 0.0;
+        self.x0 *= c;
+        acc_err(&mut e, mul_err(self.x0, exact));
+        for t in &mut self.terms {
+            t.1 *= c;
+            acc_err(&mut e, mul_err(t.1, exact));
+        }
+        // Underflow to zero leaves a zero coefficient; its error is already counted.
+        self.terms.retain(|t| t.1 != 0.0);
+        self.finish(e)
+    }
+
+    /// `self / c` in place.
+    fn div_scalar(mut self, c: f64) -> Aa {
+        if self.is_entire() || c == 0.0 || c.is_nan() {
+            return Aa::entire();
+        }
+        let r = 1.0 / c;
+        if is_exact_scale(c) && is_exact_scale(r) && r.is_normal() {
+            return self.scale(r);
+        }
+        let mut e = 0.0;
+        self.x0 /= c;
+        acc_err(&mut e, err(self.x0));
+        for t in &mut self.terms {
+            t.1 /= c;
+            acc_err(&mut e, err(t.1));
+        }
+        self.terms.retain(|t| t.1 != 0.0);
+        self.finish(e)
+    }
+
+    /// `alpha·self + zeta ± delta`, the one place every non-affine function goes through.
+    fn apply(mut self, a: Approx) -> Aa {
+        if self.is_entire() || a.is_entire() || a.delta < 0.0 {
+            return Aa::entire();
+        }
+        let mut e = 0.0;
+        acc_err(&mut e, a.delta);
+        if a.alpha == 0.0 {
+            self.terms.clear();
+            self.x0 = a.zeta;
+        } else {
+            let exact = is_exact_scale(a.alpha);
+            let p = self.x0 * a.alpha;
+            acc_err(&mut e, mul_err(p, exact));
+            let (c, ce) = two_sum(p, a.zeta);
+            acc_err(&mut e, ce);
+            self.x0 = c;
+            if a.alpha != 1.0 {
+                for t in &mut self.terms {
+                    t.1 *= a.alpha;
+                    acc_err(&mut e, mul_err(t.1, exact));
+                }
+                self.terms.retain(|t| t.1 != 0.0);
+            }
+        }
+        self.finish(e)
+    }
+
+    /// Applies the approximation `f` built on this form's range; unbounded forms and
+    /// ranges that overflowed give the unbounded form.
+    fn nonaffine(self, f: impl FnOnce(f64, f64) -> Approx) -> Aa {
+        if self.is_entire() {
+            return self;
+        }
+        let (lo, hi) = self.bounds();
+        if !(lo.is_finite() && hi.is_finite()) {
+            return Aa::entire();
+        }
+        let a = f(lo, hi);
+        self.apply(a)
+    }
+
+    /// Standard AA product: `x0·y0 + Σ (x0·yi + y0·xi)·εi + (Σ|xi|·Σ|yi|)·ε_new`.
+    fn mul_aa(self, other: &Aa) -> Aa {
+        if self.is_entire() || other.is_entire() {
+            return Aa::entire();
+        }
+        if other.terms.is_empty() {
+            return self.scale(other.x0);
+        }
+        if self.terms.is_empty() {
+            return other.clone().scale(self.x0);
+        }
+        let (x0, y0) = (self.x0, other.x0);
+        let (rx, ry) = (self.radius(), other.radius());
+        let mut e = mul_up(rx, ry);
+        let p0 = x0 * y0;
+        acc_err(&mut e, err(p0));
+        let (a, b) = (&self.terms, &other.terms);
+        let mut t = Vec::with_capacity(a.len() + b.len() + 1);
+        let (mut i, mut j) = (0, 0);
+        while i < a.len() || j < b.len() {
+            let c;
+            let sym;
+            if j == b.len() || (i < a.len() && a[i].0 < b[j].0) {
+                sym = a[i].0;
+                c = y0 * a[i].1;
+                acc_err(&mut e, err(c));
+                i += 1;
+            } else if i == a.len() || b[j].0 < a[i].0 {
+                sym = b[j].0;
+                c = x0 * b[j].1;
+                acc_err(&mut e, err(c));
+                j += 1;
+            } else {
+                sym = a[i].0;
+                let (p, q) = (y0 * a[i].1, x0 * b[j].1);
+                acc_err(&mut e, err(p));
+                acc_err(&mut e, err(q));
+                let (s, se) = two_sum(p, q);
+                acc_err(&mut e, se);
+                c = s;
+                i += 1;
+                j += 1;
+            }
+            if c != 0.0 {
+                t.push((sym, c));
+            }
+        }
+        Aa { x0: p0, terms: t }.finish(e)
+    }
+
+    /// `x^2` as `x0² + s + Σ 2·x0·xi·εi ± r`: the quadratic part `(Σ xi·εi)²` lies in
+    /// `[0, R²]` (`R = Σ|xi|`), so it is centred at `s ≈ R²/2` with radius
+    /// `max(s, R² - s)`, half the `R²` that the general product `x * x` spends.
+    fn sqr_aa(&self) -> Aa {
+        if self.is_entire() {
+            return Aa::entire();
+        }
+        let x0 = self.x0;
+        let mut e = 0.0;
+        let p = x0 * x0;
+        acc_err(&mut e, err(p));
+        if self.terms.is_empty() {
+            // A constant: exactness check via the error-free product.
+            let (p, pe) = arith_core::round::two_prod(x0, x0);
+            let mut e = 0.0;
+            acc_err(&mut e, pe);
+            if pe != 0.0 || p.abs() < f64::MIN_POSITIVE {
+                acc_err(&mut e, err(p));
+            }
+            return Aa {
+                x0: p,
+                terms: Vec::new(),
+            }
+            .finish(e);
+        }
+        let r = self.radius();
+        let r2 = mul_up(r, r);
+        let s = 0.5 * r2;
+        acc_err(&mut e, f64::max(s, sub_up(r2, s)));
+        let (c, ce) = two_sum(p, s);
+        acc_err(&mut e, ce);
+        let t = 2.0 * x0;
+        let mut terms = Vec::with_capacity(self.terms.len() + 1);
+        if t != 0.0 {
+            for &(sym, xi) in &self.terms {
+                let ci = t * xi;
+                acc_err(&mut e, err(ci));
+                if ci != 0.0 {
+                    terms.push((sym, ci));
+                }
+            }
+        }
+        Aa { x0: c, terms }.finish(e)
+    }
+}
+
+/// Appends `(sym, c)` keeping the list sorted: fresh ids increase within a thread, so
+/// this is a push, except for forms that moved between threads.
+#[inline]
+fn push_symbol(terms: &mut Vec<(u64, f64)>, sym: u64, c: f64) {
+    match terms.last() {
+        Some(&(last, _)) if last >= sym => {
+            let at = terms.partition_point(|t| t.0 < sym);
+            terms.insert(at, (sym, c));
+        }
+        _ => terms.push((sym, c)),
+    }
+}
+
+impl Add for Aa {
+    type Output = Aa;
+    fn add(self, rhs: Aa) -> Aa {
+        // Merge into the longer buffer.
+        if rhs.terms.len() > self.terms.len() {
+            rhs.add_signed(&self, 1.0)
+        } else {
+            self.add_signed(&rhs, 1.0)
+        }
+    }
+}
+
+impl Sub for Aa {
+    type Output = Aa;
+    fn sub(self, rhs: Aa) -> Aa {
+        self.add_signed(&rhs, -1.0)
+    }
+}
+
+impl Mul for Aa {
+    type Output = Aa;
+    fn mul(self, rhs: Aa) -> Aa {
+        self.mul_aa(&rhs)
+    }
+}
+
+impl Div for Aa {
+    type Output = Aa;
+    fn div(self, rhs: Aa) -> Aa {
+        if rhs.terms.is_empty() && !rhs.is_entire() {
+            return self.div_scalar(rhs.x0);
+        }
+        self.mul_aa(&rhs.recip())
+    }
+}
+
+impl Neg for Aa {
+    type Output = Aa;
+    fn neg(mut self) -> Aa {
+        if self.is_entire() {
+            return self;
+        }
+        self.x0 = -self.x0;
+        for t in &mut self.terms {
+            t.1 = -t.1;
+        }
+        self
+    }
+}
+
+impl Add<f64> for Aa {
+    type Output = Aa;
+    fn add(mut self, rhs: f64) -> Aa {
+        if self.is_entire() || !rhs.is_finite() {
+            return Aa::entire();
+        }
+        let (c, ce) = two_sum(self.x0, rhs);
+        self.x0 = c;
+        let mut e = 0.0;
+        acc_err(&mut e, ce);
+        self.finish(e)
+    }
+}
+
+impl Sub<f64> for Aa {
+    type Output = Aa;
+    fn sub(self, rhs: f64) -> Aa {
+        self + (-rhs)
+    }
+}
+
+impl Mul<f64> for Aa {
+    type Output = Aa;
+    fn mul(self, rhs: f64) -> Aa {
+        self.scale(rhs)
+    }
+}
+
+impl Div<f64> for Aa {
+    type Output = Aa;
+    fn div(self, rhs: f64) -> Aa {
+        self.div_scalar(rhs)
+    }
+}
+
+arith_core::impl_f64_lhs_ops!(Aa);
+
+impl Real for Aa {
+    fn constant(c: f64) -> Aa {
+        if c.is_finite() {
+            Aa {
+                x0: c,
+                terms: Vec::new(),
+            }
+        } else {
+            Aa::entire()
+        }
+    }
+    fn sqr(&self) -> Aa {
+        self.sqr_aa()
+    }
+    fn powi(&self, n: i32) -> Aa {
+        match n {
+            0 => Aa::constant(1.0),
+            1 => self.clone(),
+            2 => self.sqr(),
+            i32::MIN => self.powi(n / 2).sqr(),
+            n if n < 0 => self.powi(-n).recip(),
+            n => self.clone().nonaffine(|a, b| approx::powi(a, b, n)),
+        }
+    }
+    fn sqrt(&self) -> Aa {
+        self.clone().nonaffine(approx::sqrt)
+    }
+    fn recip(&self) -> Aa {
+        self.clone().nonaffine(approx::recip)
+    }
+    fn exp(&self) -> Aa {
+        self.clone().nonaffine(approx::exp)
+    }
+    fn ln(&self) -> Aa {
+        self.clone().nonaffine(approx::ln)
+    }
+    fn sin(&self) -> Aa {
+        self.clone().nonaffine(approx::sin)
+    }
+    fn cos(&self) -> Aa {
+        self.clone().nonaffine(approx::cos)
+    }
+    fn abs(&self) -> Aa {
+        let (lo, hi) = self.bounds();
+        if lo >= 0.0 {
+            self.clone()
+        } else if hi <= 0.0 {
+            -self.clone()
+        } else {
+            self.clone().nonaffine(approx::abs)
+        }
+    }
+    fn min(&self, other: &Aa) -> Aa {
+        let ((alo, ahi), (blo, bhi)) = (self.bounds(), other.bounds());
+        if ahi <= blo {
+            self.clone()
+        } else if bhi <= alo {
+            other.clone()
+        } else {
+            // min(x, y) = (x + y - |x - y|) / 2.
+            let d = (self.clone() - other.clone()).abs();
+            (self.clone() + other.clone() - d) * 0.5
+        }
+    }
+    fn max(&self, other: &Aa) -> Aa {
+        let ((alo, ahi), (blo, bhi)) = (self.bounds(), other.bounds());
+        if ahi <= blo {
+            other.clone()
+        } else if bhi <= alo {
+            self.clone()
+        } else {
+            // max(x, y) = (x + y + |x - y|) / 2.
+            let d = (self.clone() - other.clone()).abs();
+            (self.clone() + other.clone() + d) * 0.5
+        }
+    }
+    fn rsub(self, c: f64) -> Aa {
+        -self + c
+    }
+    fn rdiv(self, c: f64) -> Aa {
+        self.recip() * c
+    }
+}
+
+impl Range for Aa {
+    const NAME: &'static str = "aa";
+    const INPUTS: usize = INPUTS;
+
+    fn input(i: usize, lo: f64, hi: f64) -> Aa {
+        let sym = if i < INPUTS { i as u64 } else { fresh_symbol() };
+        Aa::with_symbol(sym, lo, hi)
+    }
+    fn from_interval(lo: f64, hi: f64) -> Aa {
+        Aa::with_symbol(fresh_symbol(), lo, hi)
+    }
+    fn bounds(&self) -> (f64, f64) {
+        if self.is_entire() {
+            return (f64::NEG_INFINITY, f64::INFINITY);
+        }
+        let r = self.radius();
+        if r == 0.0 {
+            (self.x0, self.x0)
+        } else {
+            // x0 ∓ r can overflow to ±inf, never NaN (r is finite or +inf, x0 finite).
+            (arith_core::round::sub_down(self.x0, r), add_up(self.x0, r))
+        }
+    }
+    fn linear_part(&self) -> Option<Linear> {
+        if self.is_entire() {
+            return None;
+        }
+        let (f1, rest) = match self.terms.first() {
+            Some(&(0, c)) => (c, &self.terms[1..]),
+            _ => (0.0, &self.terms[..]),
+        };
+        let mut e = 0.0;
+        for &(_, c) in rest {
+            acc_err(&mut e, c);
+        }
+        Some(Linear { f0: self.x0, f1, e })
+    }
+    fn bounds_at_inputs(&self, eps: &[f64]) -> (f64, f64) {
+        if self.is_entire() {
+            return (f64::NEG_INFINITY, f64::INFINITY);
+        }
+        let (mut lo, mut hi) = (self.x0, self.x0);
+        let fixed = eps.len().min(INPUTS) as u64;
+        for &(sym, c) in &self.terms {
+            if sym < fixed {
+                let v = eps[sym as usize];
+                lo = add_down(lo, mul_down(c, v));
+                hi = add_up(hi, mul_up(c, v));
+            } else {
+                lo = arith_core::round::sub_down(lo, c.abs());
+                hi = add_up(hi, c.abs());
+            }
+        }
+        (lo, hi)
+    }
+}
