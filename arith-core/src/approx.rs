@@ -22,6 +22,8 @@
 //! The `range_*` functions are the rigorous interval enclosures used by interval
 //! arithmetic and by the fallbacks here.
 
+use crate::round::{self, down, libm_enclose, two_prod, two_sum, up};
+
 /// `f(x) ∈ alpha*x + zeta ± delta` on the interval it was built for.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Approx {
@@ -32,77 +34,783 @@ pub struct Approx {
 
 impl Approx {
     /// No information: the whole line.
-    pub const ENTIRE: Approx = Approx { alpha: 0.0, zeta: 0.0, delta: f64::INFINITY };
+    pub const ENTIRE: Approx = Approx {
+        alpha: 0.0,
+        zeta: 0.0,
+        delta: f64::INFINITY,
+    };
 
     /// Whether this approximation is unbounded (callers then produce an unbounded form).
     pub fn is_entire(&self) -> bool {
         !(self.delta.is_finite() && self.alpha.is_finite() && self.zeta.is_finite())
     }
 
-    /// The constant approximation enclosing `[lo, hi]` (`alpha = 0`).
+    /// The constant approximation enclosing `[lo, hi]` (`alpha = 0`). Exact (`delta = 0`)
+    /// for a point; ENTIRE for an unbounded, NaN or reversed range.
     pub fn from_range(lo: f64, hi: f64) -> Approx {
-        todo!("approx::Approx::from_range")
+        finish(0.0, lo, hi)
     }
 }
 
-/// `x^2` on `[a, b]`.
+/// `x^2` on `[a, b]`: Chebyshev, `alpha = a + b` (the secant slope; `x^2` is convex).
 pub fn sqr(a: f64, b: f64) -> Approx {
-    todo!()
-}
-/// `x^n` on `[a, b]`, `n >= 2`.
-pub fn powi(a: f64, b: f64, n: i32) -> Approx {
-    todo!()
-}
-/// `sqrt(max(x, 0))` on `[a, b]` (clipped at 0; wholly negative gives exactly 0).
-pub fn sqrt(a: f64, b: f64) -> Approx {
-    todo!()
-}
-/// `1/x` on `[a, b]`; [`Approx::ENTIRE`] when `0 ∈ [a, b]`.
-pub fn recip(a: f64, b: f64) -> Approx {
-    todo!()
-}
-/// `e^x` on `[a, b]`.
-pub fn exp(a: f64, b: f64) -> Approx {
-    todo!()
-}
-/// `ln x` on `[a, b]`; [`Approx::ENTIRE`] when `a <= 0`.
-pub fn ln(a: f64, b: f64) -> Approx {
-    todo!()
-}
-/// `sin x` on `[a, b]`.
-pub fn sin(a: f64, b: f64) -> Approx {
-    todo!()
-}
-/// `cos x` on `[a, b]`.
-pub fn cos(a: f64, b: f64) -> Approx {
-    todo!()
-}
-/// `|x|` on `[a, b]`.
-pub fn abs(a: f64, b: f64) -> Approx {
-    todo!()
+    powi(a, b, 2)
 }
 
-/// Rigorous enclosure of `{x^n : x ∈ [a, b]}` (any integer `n`; `x^0 = 1`).
-pub fn range_powi(a: f64, b: f64, n: i32) -> (f64, f64) {
-    todo!()
+/// `x^n` on `[a, b]`, `n >= 2`.
+///
+/// Even `n`, or odd `n` on one side of 0: convex (or, mirrored, concave), so Chebyshev:
+/// `alpha` = secant slope. Odd `n` straddling 0 (inflection exactly at the float 0): the
+/// minimax slope, i.e. the secant slope when `min(-a, b) < t*max(-a, b)`, else
+/// `n (t*max(-a, b))^(n-1)` (`t = 1/2` for `n = 3`), bounded on `[a, 0]` and `[0, b]`
+/// separately. `n < 2` (not part of the contract) gives the sound constant, identity or
+/// range approximation.
+pub fn powi(a: f64, b: f64, n: i32) -> Approx {
+    if bad(a, b) {
+        return Approx::ENTIRE;
+    }
+    match n {
+        1 => {
+            return Approx {
+                alpha: 1.0,
+                zeta: 0.0,
+                delta: 0.0,
+            }
+        }
+        0 => {
+            return Approx {
+                alpha: 0.0,
+                zeta: 1.0,
+                delta: 0.0,
+            }
+        }
+        _ if n < 0 => {
+            let (lo, hi) = range_powi(a, b, n);
+            return Approx::from_range(lo, hi);
+        }
+        _ => {}
+    }
+    let range = range_powi(a, b, n);
+    if a == b || !a.is_finite() || !b.is_finite() {
+        return Approx::from_range(range.0, range.1);
+    }
+    let nu = n as u32;
+    let odd = !nu.is_multiple_of(2);
+    if odd && (b <= 0.0 || (a < 0.0 && -a > b)) {
+        return mirror(powi(-b, -a, n));
+    }
+    let nf = n as f64;
+    let f = |x: f64| pow_enc(x, nu);
+    let df = |x: f64| {
+        let (lo, hi) = pow_enc(x, nu - 1);
+        (mul_lo(lo, nf), mul_hi(hi, nf))
+    };
+    // Stationary point of g: n p^(n-1) = alpha.
+    let stat = |alpha: f64| alpha.signum() * (alpha.abs() / nf).powf(1.0 / (nf - 1.0));
+    let ap = if odd && a < 0.0 {
+        // Here 0 < -a <= b: concave on [a, 0], convex on [0, b].
+        let t = odd_pow_t(nu);
+        let alpha = if -a >= t * b {
+            nf * (t * b).powi(n - 1)
+        } else {
+            pow_secant(a, b, nu)
+        };
+        let p = stat(alpha);
+        let (l1, h1) = bound_piece(&f, &df, alpha, a, 0.0, -p, false);
+        let (l2, h2) = bound_piece(&f, &df, alpha, 0.0, b, p, true);
+        finish(alpha, l1.min(l2), h1.max(h2))
+    } else {
+        let alpha = pow_secant(a, b, nu);
+        let (lo, hi) = bound_piece(&f, &df, alpha, a, b, stat(alpha), true);
+        finish(alpha, lo, hi)
+    };
+    or_range(ap, range)
 }
+
+/// `sqrt(max(x, 0))` on `[a, b]` (clipped at 0; wholly negative gives exactly 0).
+///
+/// `a >= 0`: concave, Chebyshev `alpha = 1/(sqrt(a) + sqrt(b))` (the secant slope).
+/// `a < 0 < b`: the function is 0 then `sqrt`; the minimax slope over all of `[a, b]`
+/// (the approximation must hold on the negative part too): `1/sqrt(b)` when
+/// `-a <= b/4`, `1/(2 sqrt(-a))` when `-a <= b`, else the secant `sqrt(b)/(b - a)`.
+/// An unbounded `a` gives the constant `[0, sqrt(b)]` (`alpha = 0`).
+pub fn sqrt(a: f64, b: f64) -> Approx {
+    if bad(a, b) {
+        return Approx::ENTIRE;
+    }
+    if b <= 0.0 {
+        return Approx {
+            alpha: 0.0,
+            zeta: 0.0,
+            delta: 0.0,
+        };
+    }
+    let range = range_sqrt(a, b);
+    if a == b || !a.is_finite() || !b.is_finite() {
+        return Approx::from_range(range.0, range.1);
+    }
+    let f = |x: f64| if x <= 0.0 { (0.0, 0.0) } else { sqrt_enc(x) };
+    let df = |x: f64| {
+        let (sl, sh) = sqrt_enc(x);
+        (round::div_down(0.5, sh), round::div_up(0.5, sl))
+    };
+    let sb = b.sqrt();
+    let ap = if a >= 0.0 {
+        let alpha = 1.0 / (a.sqrt() + sb);
+        let p = 0.25 / (alpha * alpha);
+        let (lo, hi) = bound_piece(&f, &df, alpha, a, b, p, false);
+        finish(alpha, lo, hi)
+    } else {
+        let l = -a;
+        let alpha = if l <= 0.25 * b {
+            1.0 / sb
+        } else if l <= b {
+            0.5 / l.sqrt()
+        } else {
+            sb / (b - a)
+        };
+        // [a, 0]: g = -alpha*x is linear; [0, b]: concave.
+        let ga = g_enc((0.0, 0.0), alpha, a);
+        let (l2, h2) = bound_piece(&f, &df, alpha, 0.0, b, 0.25 / (alpha * alpha), false);
+        finish(alpha, ga.0.min(0.0).min(l2), ga.1.max(0.0).max(h2))
+    };
+    or_range(ap, range)
+}
+
+/// `1/x` on `[a, b]`; [`Approx::ENTIRE`] when `0 ∈ [a, b]`.
+///
+/// Chebyshev (`alpha = -1/(ab)`) while its enclosure keeps the sign of `1/x` (roughly
+/// `b < 4a`); otherwise min-range (`alpha = -1/b^2`, the enclosure is then about
+/// `[1/b, 1/a]`), so a positive input never yields a range reaching 0. Negative inputs
+/// are mirrored. An unbounded end gives the constant range approximation.
+pub fn recip(a: f64, b: f64) -> Approx {
+    if bad(a, b) || (a <= 0.0 && b >= 0.0) {
+        return Approx::ENTIRE;
+    }
+    if b < 0.0 {
+        return mirror(recip(-b, -a));
+    }
+    let range = range_powi(a, b, -1);
+    if a == b || !b.is_finite() {
+        return Approx::from_range(range.0, range.1);
+    }
+    let f = recip_enc;
+    let df = |x: f64| {
+        let (x2l, x2h) = (mul_lo(x, x).max(0.0), mul_hi(x, x));
+        (-round::div_up(1.0, x2l), -round::div_down(1.0, x2h))
+    };
+    let cheb = {
+        let alpha = -(1.0 / a) / b;
+        let (lo, hi) = bound_piece(&f, &df, alpha, a, b, a.sqrt() * b.sqrt(), true);
+        finish(alpha, lo, hi)
+    };
+    if !cheb.is_entire() && approx_min(&cheb, a, b) > 0.0 {
+        return cheb;
+    }
+    let alpha = -(1.0 / b) / b;
+    let (lo, hi) = bound_piece(&f, &df, alpha, a, b, b, true);
+    or_range(finish(alpha, lo, hi), range)
+}
+
+/// `e^x` on `[a, b]`.
+///
+/// Chebyshev (`alpha = (e^b - e^a)/(b - a)`) while its enclosure stays positive;
+/// otherwise min-range (`alpha` = a lower bound of `e^a`, enclosure about `[e^a, e^b]`).
+/// `b = +inf` gives ENTIRE, `a = -inf` the constant `[0, e^b]`.
+pub fn exp(a: f64, b: f64) -> Approx {
+    if bad(a, b) || b == f64::INFINITY {
+        return Approx::ENTIRE;
+    }
+    let range = range_exp(a, b);
+    if a == b || !a.is_finite() {
+        return Approx::from_range(range.0, range.1);
+    }
+    let f = |x: f64| libm_enclose(x.exp());
+    let ea = a.exp();
+    let w = b - a;
+    let alpha = ea * (w.exp_m1() / w);
+    if alpha.is_finite() && alpha > 0.0 {
+        let (lo, hi) = bound_piece(&f, &f, alpha, a, b, alpha.ln(), true);
+        let cheb = finish(alpha, lo, hi);
+        if !cheb.is_entire() && approx_min(&cheb, a, b) > 0.0 {
+            return cheb;
+        }
+    }
+    let alpha = libm_enclose(ea).0.max(0.0);
+    let (lo, hi) = bound_piece(&f, &f, alpha, a, b, a, true);
+    or_range(finish(alpha, lo, hi), range)
+}
+
+/// `ln x` on `[a, b]`; [`Approx::ENTIRE`] when `a <= 0` (or `b = +inf`).
+///
+/// Concave: Chebyshev, `alpha = ln(b/a)/(b - a)` (the secant slope).
+pub fn ln(a: f64, b: f64) -> Approx {
+    if bad(a, b) || a <= 0.0 || b == f64::INFINITY {
+        return Approx::ENTIRE;
+    }
+    let range = range_ln(a, b);
+    if a == b {
+        return Approx::from_range(range.0, range.1);
+    }
+    let f = |x: f64| libm_enclose(x.ln());
+    let df = |x: f64| (round::div_down(1.0, x), round::div_up(1.0, x));
+    let w = b - a;
+    let r = w / a;
+    let alpha = if r.is_finite() {
+        r.ln_1p() / w
+    } else {
+        (b.ln() - a.ln()) / w
+    };
+    let (lo, hi) = bound_piece(&f, &df, alpha, a, b, 1.0 / alpha, false);
+    or_range(finish(alpha, lo, hi), range)
+}
+
+/// `sin x` on `[a, b]`.
+///
+/// Without an inflection (a multiple of `pi`) in `[a, b]`, decided conservatively:
+/// Chebyshev, `alpha` = secant slope. With one: the secant slope with a mean-value
+/// bound, or `alpha = 0` with the range, whichever is narrower. `|x| > 1e7`: `alpha = 0`.
+pub fn sin(a: f64, b: f64) -> Approx {
+    trig_approx(Trig::Sin, a, b)
+}
+
+/// `cos x` on `[a, b]`: as [`sin`], with inflections at `pi/2 + k*pi`.
+pub fn cos(a: f64, b: f64) -> Approx {
+    trig_approx(Trig::Cos, a, b)
+}
+
+/// `|x|` on `[a, b]`: exact (`alpha = ±1`, `delta = 0`) on one side of 0; straddling 0,
+/// Chebyshev `alpha = (a + b)/(b - a)` (the secant slope; `|x|` is convex).
+pub fn abs(a: f64, b: f64) -> Approx {
+    if bad(a, b) {
+        return Approx::ENTIRE;
+    }
+    if a >= 0.0 {
+        return Approx {
+            alpha: 1.0,
+            zeta: 0.0,
+            delta: 0.0,
+        };
+    }
+    if b <= 0.0 {
+        return Approx {
+            alpha: -1.0,
+            zeta: 0.0,
+            delta: 0.0,
+        };
+    }
+    if !a.is_finite() || !b.is_finite() {
+        return Approx::ENTIRE;
+    }
+    // |alpha| <= 1 in floating point too (|fl(a+b)| <= fl(b-a)), so g = |x| - alpha*x
+    // >= 0, with its maximum at an end.
+    let alpha = ((a + b) / (b - a)).clamp(-1.0, 1.0);
+    let ga = g_enc((-a, -a), alpha, a);
+    let gb = g_enc((b, b), alpha, b);
+    finish(alpha, 0.0, ga.1.max(gb.1))
+}
+
+/// Rigorous enclosure of `{x^n : x ∈ [a, b]}` (any integer `n`; `x^0 = 1`). For `n < 0`
+/// and `0 ∈ [a, b]`: `(0, +inf)` for even `n`, the whole line for odd `n`.
+pub fn range_powi(a: f64, b: f64, n: i32) -> (f64, f64) {
+    const WHOLE: (f64, f64) = (f64::NEG_INFINITY, f64::INFINITY);
+    if bad(a, b) {
+        return WHOLE;
+    }
+    if n == 0 {
+        return (1.0, 1.0);
+    }
+    let k = n.unsigned_abs();
+    let even = k.is_multiple_of(2);
+    if n > 0 {
+        if !even || a >= 0.0 {
+            return (pow_enc(a, k).0, pow_enc(b, k).1);
+        }
+        if b <= 0.0 {
+            return (pow_enc(b, k).0, pow_enc(a, k).1);
+        }
+        return (0.0, pow_enc(a, k).1.max(pow_enc(b, k).1));
+    }
+    if a <= 0.0 && b >= 0.0 {
+        return if even { (0.0, f64::INFINITY) } else { WHOLE };
+    }
+    // Magnitudes [ml, mh] > 0; |x|^-k ∈ [1/mh^k, 1/ml^k].
+    let (ml, mh) = if a > 0.0 { (a, b) } else { (-b, -a) };
+    let lo_pow = pow_enc(ml, k).0;
+    let hi_pow = pow_enc(mh, k).1;
+    let r_hi = if lo_pow > 0.0 {
+        round::div_up(1.0, lo_pow)
+    } else {
+        f64::INFINITY
+    };
+    let r_lo = round::div_down(1.0, hi_pow).max(0.0);
+    if a < 0.0 && !even {
+        (-r_hi, -r_lo)
+    } else {
+        (r_lo, r_hi)
+    }
+}
+
 /// Rigorous enclosure of `{sqrt(max(x,0)) : x ∈ [a, b]}`.
 pub fn range_sqrt(a: f64, b: f64) -> (f64, f64) {
-    todo!()
+    if bad(a, b) {
+        return (0.0, f64::INFINITY);
+    }
+    if b <= 0.0 {
+        return (0.0, 0.0);
+    }
+    let lo = if a <= 0.0 { 0.0 } else { sqrt_enc(a).0 };
+    (lo, sqrt_enc(b).1)
 }
+
 /// Rigorous enclosure of `{e^x : x ∈ [a, b]}`.
 pub fn range_exp(a: f64, b: f64) -> (f64, f64) {
-    todo!()
+    if bad(a, b) {
+        return (0.0, f64::INFINITY);
+    }
+    (libm_enclose(a.exp()).0.max(0.0), libm_enclose(b.exp()).1)
 }
-/// Rigorous enclosure of `{ln x : x ∈ [a, b]}` (`-inf` lower bound when `a <= 0`).
+
+/// Rigorous enclosure of `{ln x : x ∈ [a, b]}` (`-inf` lower bound when `a <= 0`;
+/// `(-inf, -inf)` when `b <= 0`, as `ln x = -inf` there).
 pub fn range_ln(a: f64, b: f64) -> (f64, f64) {
-    todo!()
+    if bad(a, b) {
+        return (f64::NEG_INFINITY, f64::INFINITY);
+    }
+    if b <= 0.0 {
+        return (f64::NEG_INFINITY, f64::NEG_INFINITY);
+    }
+    let lo = if a <= 0.0 {
+        f64::NEG_INFINITY
+    } else {
+        libm_enclose(a.ln()).0
+    };
+    (lo, libm_enclose(b.ln()).1)
 }
-/// Rigorous enclosure of `{sin x : x ∈ [a, b]}`.
+
+/// Enclosure of a sine-like function over `[a, b]`: the ends (libm, widened) plus `1`/`-1`
+/// when `[a, b]` may hold a maximum at `max_at + 2k*pi` / a minimum at `min_at + 2k*pi`.
+fn range_trig(t: Trig, a: f64, b: f64, max_at: f64, min_at: f64) -> (f64, f64) {
+    use core::f64::consts::TAU;
+    if bad(a, b) || !(a.abs() <= TRIG_MAX_ARG && b.abs() <= TRIG_MAX_ARG) || b - a >= 6.2 {
+        return (-1.0, 1.0);
+    }
+    let (fa, fb) = (t.f(a), t.f(b));
+    let mut lo = fa.0.min(fb.0);
+    let mut hi = fa.1.max(fb.1);
+    if may_contain(a, b, max_at, TAU) {
+        hi = 1.0;
+    }
+    if may_contain(a, b, min_at, TAU) {
+        lo = -1.0;
+    }
+    (lo.max(-1.0), hi.min(1.0))
+}
+
+/// Rigorous enclosure of `{sin x : x ∈ [a, b]}` (`[-1, 1]` for `|x| > 1e7` or width `>= 6.2`).
 pub fn range_sin(a: f64, b: f64) -> (f64, f64) {
-    todo!()
+    use core::f64::consts::FRAC_PI_2;
+    range_trig(Trig::Sin, a, b, FRAC_PI_2, -FRAC_PI_2)
 }
-/// Rigorous enclosure of `{cos x : x ∈ [a, b]}`.
+
+/// Rigorous enclosure of `{cos x : x ∈ [a, b]}` (`[-1, 1]` for `|x| > 1e7` or width `>= 6.2`).
 pub fn range_cos(a: f64, b: f64) -> (f64, f64) {
-    todo!()
+    use core::f64::consts::PI;
+    range_trig(Trig::Cos, a, b, 0.0, PI)
+}
+
+// ---------------------------------------------------------------------------------
+// Directed operations that stay exact when the exact result is representable (so that
+// hand-checkable cases such as `sqr` on `[1, 3]` come out exact), and that never return
+// NaN: an undefined bound becomes the infinite bound on its side.
+// ---------------------------------------------------------------------------------
+
+/// Products whose magnitude is at least this have an exactly representable FMA error.
+const FMA_SAFE: f64 = 1.0e-280;
+
+/// An upper bound of `a + b` (exact when representable).
+fn add_hi(a: f64, b: f64) -> f64 {
+    let (s, e) = two_sum(a, b);
+    if s.is_finite() && e.is_finite() {
+        if e > 0.0 {
+            up(s)
+        } else {
+            s
+        }
+    } else {
+        up(s)
+    }
+}
+
+/// A lower bound of `a + b` (exact when representable).
+fn add_lo(a: f64, b: f64) -> f64 {
+    let (s, e) = two_sum(a, b);
+    if s.is_finite() && e.is_finite() {
+        if e < 0.0 {
+            down(s)
+        } else {
+            s
+        }
+    } else {
+        down(s)
+    }
+}
+
+fn sub_hi(a: f64, b: f64) -> f64 {
+    add_hi(a, -b)
+}
+
+fn sub_lo(a: f64, b: f64) -> f64 {
+    add_lo(a, -b)
+}
+
+/// An upper bound of `a * b` (exact when representable; `0 * inf` gives `+inf`).
+fn mul_hi(a: f64, b: f64) -> f64 {
+    if (a == 0.0 && b.is_finite()) || (b == 0.0 && a.is_finite()) {
+        return 0.0;
+    }
+    let (p, e) = two_prod(a, b);
+    if p.is_finite() && p.abs() >= FMA_SAFE && e.is_finite() {
+        if e > 0.0 {
+            up(p)
+        } else {
+            p
+        }
+    } else {
+        round::mul_up(a, b)
+    }
+}
+
+/// A lower bound of `a * b` (exact when representable; `0 * inf` gives `-inf`).
+fn mul_lo(a: f64, b: f64) -> f64 {
+    if (a == 0.0 && b.is_finite()) || (b == 0.0 && a.is_finite()) {
+        return 0.0;
+    }
+    let (p, e) = two_prod(a, b);
+    if p.is_finite() && p.abs() >= FMA_SAFE && e.is_finite() {
+        if e < 0.0 {
+            down(p)
+        } else {
+            p
+        }
+    } else {
+        round::mul_down(a, b)
+    }
+}
+
+/// Enclosure of the product of two intervals.
+fn imul(x: (f64, f64), y: (f64, f64)) -> (f64, f64) {
+    let lo = mul_lo(x.0, y.0)
+        .min(mul_lo(x.0, y.1))
+        .min(mul_lo(x.1, y.0))
+        .min(mul_lo(x.1, y.1));
+    let hi = mul_hi(x.0, y.0)
+        .max(mul_hi(x.0, y.1))
+        .max(mul_hi(x.1, y.0))
+        .max(mul_hi(x.1, y.1));
+    (lo, hi)
+}
+
+/// Enclosure of `sqrt(x)` for `x >= 0` (exact when `x` is a perfect square).
+fn sqrt_enc(x: f64) -> (f64, f64) {
+    let s = x.sqrt();
+    if x.is_finite() && x >= 1.0e-250 {
+        // The residual of a correctly rounded square root is representable here.
+        let r = s.mul_add(s, -x);
+        if r == 0.0 {
+            return (s, s);
+        } else if r > 0.0 {
+            return (down(s).max(0.0), s);
+        } else {
+            return (s, up(s));
+        }
+    }
+    (down(s).max(0.0), up(s))
+}
+
+/// Enclosure of `1 / x` for `x != 0` (exact when representable).
+fn recip_enc(x: f64) -> (f64, f64) {
+    let q = 1.0 / x;
+    if x.is_finite() && (1.0e-250..=1.0e250).contains(&x.abs()) {
+        // q*x - 1 = x*(q - 1/x): its sign tells on which side of 1/x the quotient lies.
+        let r = q.mul_add(x, -1.0);
+        if r == 0.0 {
+            return (q, q);
+        }
+        let q_above = (r > 0.0) == (x > 0.0);
+        return if q_above { (down(q), q) } else { (q, up(q)) };
+    }
+    (down(q), up(q))
+}
+
+/// Enclosure of `x^n`, `n >= 1`, by outward-rounded binary powering of `|x|`.
+fn pow_enc(x: f64, n: u32) -> (f64, f64) {
+    let m = x.abs();
+    let (mut rl, mut rh) = (1.0f64, 1.0f64);
+    let (mut bl, mut bh) = (m, m);
+    let mut k = n;
+    while k > 0 {
+        if k & 1 == 1 {
+            rl = mul_lo(rl, bl).max(0.0);
+            rh = mul_hi(rh, bh);
+        }
+        k >>= 1;
+        if k > 0 {
+            bl = mul_lo(bl, bl).max(0.0);
+            bh = mul_hi(bh, bh);
+        }
+    }
+    if x < 0.0 && !n.is_multiple_of(2) {
+        (-rh, -rl)
+    } else {
+        (rl, rh)
+    }
+}
+
+/// Whether `[a, b]` is empty or malformed (NaN bounds, `a > b`).
+fn bad(a: f64, b: f64) -> bool {
+    a.is_nan() || b.is_nan() || a > b
+}
+
+/// Enclosure of `g(x) = f(x) - alpha*x` at a float `x`, given `f(x) ∈ fx`.
+fn g_enc(fx: (f64, f64), alpha: f64, x: f64) -> (f64, f64) {
+    (
+        sub_lo(fx.0, mul_hi(alpha, x)),
+        sub_hi(fx.1, mul_lo(alpha, x)),
+    )
+}
+
+/// `p` moved into `[a, b]` (the midpoint when `p` is NaN).
+fn clamp_in(p: f64, a: f64, b: f64) -> f64 {
+    if p >= a && p <= b {
+        p
+    } else if p > b {
+        b
+    } else if p < a {
+        a
+    } else {
+        mid(a, b)
+    }
+}
+
+/// A float in `[a, b]` near the midpoint (no overflow).
+fn mid(a: f64, b: f64) -> f64 {
+    clamp_in_finite(0.5 * a + 0.5 * b, a, b)
+}
+
+fn clamp_in_finite(m: f64, a: f64, b: f64) -> f64 {
+    if m < a {
+        a
+    } else if m > b {
+        b
+    } else {
+        m
+    }
+}
+
+/// Rigorous enclosure of `g = f - alpha*x` over `[a, b]` where `f` (hence `g`) is convex
+/// (`convex = true`) or concave there. The far side comes from the ends; the near side
+/// from the tangent at `p` (an approximate stationary point of `g`):
+/// convex `g(x) >= g(p) + g'(p)(x - p)`, concave `g(x) <= g(p) + g'(p)(x - p)`, with an
+/// enclosure of `g'(p) = f'(p) - alpha` and `x - p ∈ [a - p, b - p]`.
+fn bound_piece<F, D>(f: &F, df: &D, alpha: f64, a: f64, b: f64, p: f64, convex: bool) -> (f64, f64)
+where
+    F: Fn(f64) -> (f64, f64),
+    D: Fn(f64) -> (f64, f64),
+{
+    let ga = g_enc(f(a), alpha, a);
+    let gb = g_enc(f(b), alpha, b);
+    let p = clamp_in(p, a, b);
+    let gp = g_enc(f(p), alpha, p);
+    let d = df(p);
+    let dg = (sub_lo(d.0, alpha), sub_hi(d.1, alpha));
+    let (tlo, thi) = imul(dg, (sub_lo(a, p), sub_hi(b, p)));
+    if convex {
+        (add_lo(gp.0, tlo), ga.1.max(gb.1))
+    } else {
+        (ga.0.min(gb.0), add_hi(gp.1, thi))
+    }
+}
+
+/// The approximation `alpha*x + zeta ± delta` from `g = f - alpha*x ∈ [lo, hi]`:
+/// `zeta` near the midpoint, `delta` an upper bound of both exact half-widths, so that
+/// `[zeta - delta, zeta + delta] ⊇ [lo, hi]` exactly. Anything unbounded gives ENTIRE.
+fn finish(alpha: f64, lo: f64, hi: f64) -> Approx {
+    if !(alpha.is_finite() && lo.is_finite() && hi.is_finite() && lo <= hi) {
+        return Approx::ENTIRE;
+    }
+    let zeta = 0.5 * lo + 0.5 * hi;
+    let delta = sub_hi(hi, zeta).max(sub_hi(zeta, lo)).max(0.0);
+    if !(zeta.is_finite() && delta.is_finite()) {
+        return Approx::ENTIRE;
+    }
+    Approx { alpha, zeta, delta }
+}
+
+/// If `ap` came out unbounded (overflow inside the affine part), try the constant
+/// approximation of the rigorous range instead.
+fn or_range(ap: Approx, range: (f64, f64)) -> Approx {
+    if ap.is_entire() {
+        Approx::from_range(range.0, range.1)
+    } else {
+        ap
+    }
+}
+
+/// For an odd `f`: the approximation on `[a, b]` from one on `[-b, -a]`.
+fn mirror(ap: Approx) -> Approx {
+    Approx {
+        alpha: ap.alpha,
+        zeta: -ap.zeta,
+        delta: ap.delta,
+    }
+}
+
+/// The affine range `min alpha*x + zeta - delta` over `x ∈ {a, b}` in plain floating point
+/// (only used to choose between two sound approximations).
+fn approx_min(ap: &Approx, a: f64, b: f64) -> f64 {
+    (ap.alpha * a).min(ap.alpha * b) + ap.zeta - ap.delta
+}
+
+/// Secant slope of `x^n` on `[a, b]`: `sum_{k<n} a^k b^(n-1-k)` (no cancellation).
+fn pow_secant(a: f64, b: f64, n: u32) -> f64 {
+    if n > 64 {
+        return (b.powi(n as i32) - a.powi(n as i32)) / (b - a);
+    }
+    let (mut acc, mut bp) = (1.0f64, 1.0f64);
+    for _ in 1..n {
+        bp *= b;
+        acc = acc * a + bp;
+    }
+    acc
+}
+
+/// Root `t ∈ (0, 1)` of `(n-1) t^n + n t^(n-1) = 1`: for odd `n` the minimax slope of
+/// `x^n` on `[-r, r]` is `n (t r)^(n-1)` (`t = 1/2` for `n = 3`).
+fn odd_pow_t(n: u32) -> f64 {
+    let nf = n as f64;
+    let mut t = 1.0f64;
+    for _ in 0..60 {
+        let tn1 = t.powi(n as i32 - 2);
+        let h = (nf - 1.0) * tn1 * t * t + nf * tn1 * t - 1.0;
+        let dh = nf * (nf - 1.0) * tn1 * (t + 1.0);
+        let step = h / dh;
+        if !step.is_finite() {
+            break;
+        }
+        t -= step;
+        if step.abs() < 1e-16 {
+            break;
+        }
+    }
+    t.clamp(0.0, 1.0)
+}
+
+/// Largest argument magnitude for which `sin`/`cos` get more than `[-1, 1]`.
+const TRIG_MAX_ARG: f64 = 1.0e7;
+/// Safety margin (in periods) of [`may_contain`]; float errors are below `1e-9` there.
+const PERIOD_EPS: f64 = 1.0e-6;
+
+/// Conservatively: whether `[a, b]` (finite, `|a|, |b| <= TRIG_MAX_ARG`) may contain a
+/// point `offset + k*period` (`k` integer). The float quotient `(x - offset)/period` is
+/// within `1e-9` of the exact one at these magnitudes; `PERIOD_EPS` covers that with room.
+fn may_contain(a: f64, b: f64, offset: f64, period: f64) -> bool {
+    let u = (a - offset) / period - PERIOD_EPS;
+    let v = (b - offset) / period + PERIOD_EPS;
+    u.ceil() <= v.floor()
+}
+
+#[derive(Clone, Copy, PartialEq)]
+enum Trig {
+    Sin,
+    Cos,
+}
+
+impl Trig {
+    fn f(self, x: f64) -> (f64, f64) {
+        match self {
+            Trig::Sin => libm_enclose(x.sin()),
+            Trig::Cos => libm_enclose(x.cos()),
+        }
+    }
+    fn df(self, x: f64) -> (f64, f64) {
+        match self {
+            Trig::Sin => libm_enclose(x.cos()),
+            Trig::Cos => {
+                let (lo, hi) = libm_enclose(x.sin());
+                (-hi, -lo)
+            }
+        }
+    }
+    fn range(self, a: f64, b: f64) -> (f64, f64) {
+        match self {
+            Trig::Sin => range_sin(a, b),
+            Trig::Cos => range_cos(a, b),
+        }
+    }
+    /// Derivative range over `[a, b]` (`cos` for sin, `-sin` for cos).
+    fn drange(self, a: f64, b: f64) -> (f64, f64) {
+        match self {
+            Trig::Sin => range_cos(a, b),
+            Trig::Cos => {
+                let (lo, hi) = range_sin(a, b);
+                (-hi, -lo)
+            }
+        }
+    }
+}
+
+/// Shared body of [`sin`] and [`cos`].
+fn trig_approx(t: Trig, a: f64, b: f64) -> Approx {
+    use core::f64::consts::{FRAC_PI_2, PI, TAU};
+    if bad(a, b) {
+        return Approx::ENTIRE;
+    }
+    let range = t.range(a, b);
+    if a == b || !(a.abs() <= TRIG_MAX_ARG && b.abs() <= TRIG_MAX_ARG) {
+        return Approx::from_range(range.0, range.1);
+    }
+    let m = mid(a, b);
+    let h = 0.5 * (b - a);
+    let sinc = if h < 1e-8 { 1.0 } else { h.sin() / h };
+    // Secant slope: sin b - sin a = 2 cos(m) sin(h), cos b - cos a = -2 sin(m) sin(h).
+    let alpha = match t {
+        Trig::Sin => m.cos() * sinc,
+        Trig::Cos => -m.sin() * sinc,
+    }
+    .clamp(-1.0, 1.0);
+    let inflection = match t {
+        Trig::Sin => 0.0,
+        Trig::Cos => FRAC_PI_2,
+    };
+    let fallback = Approx::from_range(range.0, range.1);
+    if may_contain(a, b, inflection, PI) {
+        // Neither convex nor concave: mean-value form g(x) ∈ g(m) + (f'([a,b]) - alpha)(x - m),
+        // or alpha = 0 with the range, whichever is narrower.
+        let gm = g_enc(t.f(m), alpha, m);
+        let d = t.drange(a, b);
+        let dg = (sub_lo(d.0, alpha), sub_hi(d.1, alpha));
+        let (tlo, thi) = imul(dg, (sub_lo(a, m), sub_hi(b, m)));
+        let mv = finish(alpha, add_lo(gm.0, tlo), add_hi(gm.1, thi));
+        return if !mv.is_entire() && mv.delta < fallback.delta {
+            mv
+        } else {
+            fallback
+        };
+    }
+    // No inflection inside: f'' = -f has the sign of -f(m) on all of [a, b].
+    let concave = match t {
+        Trig::Sin => m.sin() > 0.0,
+        Trig::Cos => m.cos() > 0.0,
+    };
+    // Stationary point of g: f'(p) = alpha on the branch matching the convexity.
+    let p0 = match (t, concave) {
+        (Trig::Sin, true) => alpha.acos(),
+        (Trig::Sin, false) => -alpha.acos(),
+        (Trig::Cos, true) => (-alpha).asin(),
+        (Trig::Cos, false) => PI - (-alpha).asin(),
+    };
+    let p = p0 + TAU * ((m - p0) / TAU).round();
+    let (lo, hi) = bound_piece(&|x| t.f(x), &|x| t.df(x), alpha, a, b, p, !concave);
+    or_range(finish(alpha, lo, hi), range)
 }
