@@ -1,0 +1,100 @@
+//! Floating-point bookkeeping shared by every operation of the form.
+//!
+//! We never change the rounding mode. Each operation computes its centre and
+//! coefficients in round-to-nearest and bounds the rounding error it made; the error
+//! terms (all `>= 0`) are summed in plain `f64` and that sum is then turned into a
+//! guaranteed upper bound by [`up_rel`] or [`up_abs`].
+//!
+//! Facts used (binary64, round to nearest, `U = 2^-53`, `ETA = 2^-1074`):
+//! - `fl(a + b)`: error `<= U * |fl(a + b)|`, and exact when `|a + b| < 2^-1021`
+//!   (both operands are multiples of `ETA`); hence `fl(U * |fl(a + b)|)` is itself an
+//!   upper bound of the error (no underflow loss: when the error can be non-zero,
+//!   `ulp/2 >= ETA` is representable and `U*|z| >= ulp/2`).
+//! - `fl(a * b)`, `fl(a / b)`: error `<= U * |result| + ETA/2` (the `ETA/2` for a
+//!   subnormal result).
+//! - A sum of `m` nonnegative terms computed left to right is `>= (1-U)^(m-1)` times the
+//!   exact sum of the computed terms (no underflow loss in additions).
+
+use arith_core::round::{two_sum, ETA, U};
+
+/// `1 + 2(k+2)U`, exactly representable; `c_k (1-U)^(k+2) >= 1`.
+#[inline(always)]
+const fn slack(k: usize) -> f64 {
+    1.0 + (2 * (k + 2)) as f64 * U
+}
+
+/// Upper bound of a nonnegative real `T`, given `s`, an `f64` left-to-right sum of
+/// nonnegative terms, each computed term `>=` its exact target, with at most `k`
+/// roundings on any chain (so `s >= (1-U)^k T`, and `s == T` exactly when `s` is
+/// subnormal because then every partial sum was exact).
+///
+/// Returns exactly `0` for `s == 0`, which keeps `x - x` exactly `[0, 0]`.
+#[inline(always)]
+pub fn up_rel(s: f64, k: usize) -> f64 {
+    // Normal product: fl(s c) >= s c (1-U) >= (1-U)^(k+1) c T >= T.
+    // Subnormal: s == T and fl(s c) >= s since s is representable and s c >= s.
+    s * slack(k)
+}
+
+/// Upper bound of a nonnegative real `T`, given `s >= 0` with
+/// `s >= (1-U)^k T - k ETA` (products with possibly subnormal results lose up to
+/// `ETA/2` each, counted in `k`).
+#[inline(always)]
+pub fn up_abs(s: f64, k: usize) -> f64 {
+    // p = fl(s c) >= (1-U) s c - ETA/2; fl(p + (k+1)ETA) >= (1-U)(p + (k+1)ETA)
+    // (exact below 2^-1021). Then r >= (1-U)^2 c s - ETA/2 + (1-U)(k+1/2)ETA
+    //                                >= T - c k ETA + (1-U)(k+1/2) ETA >= T.
+    s * slack(k) + (k + 1) as f64 * ETA
+}
+
+/// `fl(a + b)` rounded towards `+inf` only when it was inexact (tight: exact sums stay).
+#[inline(always)]
+pub fn add_dir_up(a: f64, b: f64) -> f64 {
+    let (s, t) = two_sum(a, b);
+    if t > 0.0 {
+        s.next_up()
+    } else {
+        s
+    }
+}
+
+/// `fl(a + b)` rounded towards `-inf` only when it was inexact.
+#[inline(always)]
+pub fn add_dir_down(a: f64, b: f64) -> f64 {
+    let (s, t) = two_sum(a, b);
+    if t < 0.0 {
+        s.next_down()
+    } else {
+        s
+    }
+}
+
+/// Midpoint and radius of `[lo, hi]` (`lo <= hi`) with a bound on how far they are from
+/// the real midpoint and radius: `|m - (lo+hi)/2| + |r - (hi-lo)/2| <= err`.
+/// `err == 0` whenever both are exact (the usual case).
+#[inline]
+pub fn mid_rad(lo: f64, hi: f64) -> (f64, f64, f64) {
+    let hl = 0.5 * lo;
+    let hh = 0.5 * hi;
+    // Halving is exact unless the result is subnormal; then it is off by <= ETA/2.
+    let halving = if hl * 2.0 == lo && hh * 2.0 == hi {
+        0.0
+    } else {
+        2.0 * ETA
+    };
+    let (m, tm) = two_sum(hl, hh);
+    let (r, tr) = two_sum(hh, -hl);
+    let err = add_dir_up(add_dir_up(tm.abs(), tr.abs()), halving);
+    (m, r, err)
+}
+
+/// `k` for the cheap `up_abs` calls of the linear operations with products
+/// (scaling, unary approximations): generous, costs nothing at run time.
+pub const fn k_lin(n: usize) -> usize {
+    2 * n + 8
+}
+
+/// `k` for the multiplication and the square: covers the `O(n^2)` terms.
+pub const fn k_mul(n: usize) -> usize {
+    16 + 8 * n + 2 * n * n
+}
