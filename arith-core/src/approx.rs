@@ -339,11 +339,11 @@ pub fn range_powi(a: f64, b: f64, n: i32) -> (f64, f64) {
     let lo_pow = pow_enc(ml, k).0;
     let hi_pow = pow_enc(mh, k).1;
     let r_hi = if lo_pow > 0.0 {
-        round::div_up(1.0, lo_pow)
+        recip_enc(lo_pow).1
     } else {
         f64::INFINITY
     };
-    let r_lo = round::div_down(1.0, hi_pow).max(0.0);
+    let r_lo = recip_enc(hi_pow).0.max(0.0);
     if a < 0.0 && !even {
         (-r_hi, -r_lo)
     } else {
@@ -813,4 +813,251 @@ fn trig_approx(t: Trig, a: f64, b: f64) -> Approx {
     let p = p0 + TAU * ((m - p0) / TAU).round();
     let (lo, hi) = bound_piece(&|x| t.f(x), &|x| t.df(x), alpha, a, b, p, !concave);
     or_range(finish(alpha, lo, hi), range)
+}
+
+#[cfg(test)]
+mod tests {
+    //! Hand-derived values (closed forms of the Chebyshev / min-range construction,
+    //! evaluated independently); `delta` must cover the hand value and be at most a few
+    //! rounding errors wider.
+    use super::*;
+
+    fn check(ap: Approx, alpha: f64, zeta: f64, delta: f64) {
+        let scale = 1.0 + zeta.abs() + delta;
+        assert!(
+            (ap.alpha - alpha).abs() <= 1e-12 * (1.0 + alpha.abs()),
+            "alpha {ap:?} vs {alpha}"
+        );
+        assert!(
+            (ap.zeta - zeta).abs() <= 1e-12 * scale,
+            "zeta {ap:?} vs {zeta}"
+        );
+        // The decimal hand value may be one rounding above the real one.
+        assert!(
+            ap.delta >= delta * (1.0 - 1e-15),
+            "delta too small {ap:?} vs {delta}"
+        );
+        assert!(
+            ap.delta <= delta + 1e-12 * scale,
+            "delta too wide {ap:?} vs {delta}"
+        );
+    }
+
+    #[test]
+    fn sqrt_chebyshev_and_clipped() {
+        // Secant 1/3; g = sqrt(x) - x/3 is 2/3 at both ends, 3/4 at x = 9/4.
+        check(sqrt(1.0, 4.0), 1.0 / 3.0, 17.0 / 24.0, 1.0 / 24.0);
+        // -a = b/4: alpha = 1/2; g: 1/2 at -1, 0 at 0, 1/2 at 1, 0 at 4.
+        check(sqrt(-1.0, 4.0), 0.5, 0.25, 0.25);
+        // -a = b: alpha = 1/4; g: 1 at -4, 0 at 0, 1 at 4.
+        check(sqrt(-4.0, 4.0), 0.25, 0.5, 0.5);
+        // -a > b: secant 2/13; g = 18/13 at both ends, 0 at 0.
+        check(sqrt(-9.0, 4.0), 2.0 / 13.0, 9.0 / 13.0, 9.0 / 13.0);
+        let zero = Approx {
+            alpha: 0.0,
+            zeta: 0.0,
+            delta: 0.0,
+        };
+        assert_eq!(sqrt(-3.0, -1.0), zero);
+        assert_eq!(sqrt(f64::NEG_INFINITY, 0.0), zero);
+        assert_eq!(sqrt(4.0, 4.0), zero_width(2.0));
+    }
+
+    fn zero_width(v: f64) -> Approx {
+        Approx {
+            alpha: 0.0,
+            zeta: v,
+            delta: 0.0,
+        }
+    }
+
+    #[test]
+    fn sqr_and_powi() {
+        // alpha = 4, g = x^2 - 4x ∈ [-4, -3].
+        check(sqr(1.0, 3.0), 4.0, -3.5, 0.5);
+        // alpha = 1, g = x^2 - x: 2 at both ends, -1/4 at 1/2.
+        check(sqr(-1.0, 2.0), 1.0, 0.875, 1.125);
+        assert_eq!(sqr(3.0, 3.0), zero_width(9.0));
+        // x^3 on [-2, 2]: alpha = 3*(2/2)^2 = 3, g = x^3 - 3x ∈ [-2, 2].
+        check(powi(-2.0, 2.0, 3), 3.0, 0.0, 2.0);
+        // x^3 on [-1/2, 1]: -a = b/2 still takes the symmetric slope 3/4; g ∈ [-1/4, 1/4].
+        check(powi(-0.5, 1.0, 3), 0.75, 0.0, 0.25);
+        // x^3 on [-1/4, 1]: secant 0.8125, g = 0.1875 at both ends, min at sqrt(0.8125/3).
+        check(
+            powi(-0.25, 1.0, 3),
+            0.8125,
+            -0.047196135380519404,
+            0.2346961353805194,
+        );
+        // Mirrored: x^3 is odd.
+        check(
+            powi(-1.0, 0.25, 3),
+            0.8125,
+            0.047196135380519404,
+            0.2346961353805194,
+        );
+        // x^4 on [1, 2]: secant 15; g = -14 at the ends, min at (15/4)^(1/3).
+        check(
+            powi(1.0, 2.0, 4),
+            15.0,
+            -15.739091422995228,
+            1.739091422995228,
+        );
+        // x^3 on [1, 2]: secant 7, g = -6 at the ends, min at sqrt(7/3): -14/3*sqrt(7/3).
+        let gmin = -14.0 / 3.0 * (7.0f64 / 3.0).sqrt();
+        check(
+            powi(1.0, 2.0, 3),
+            7.0,
+            0.5 * (gmin - 6.0),
+            0.5 * (-6.0 - gmin),
+        );
+    }
+
+    #[test]
+    fn recip_chebyshev_then_min_range() {
+        // b < 4a: Chebyshev -1/2; g = 1/x + x/2: 3/2 at the ends, sqrt(2) at sqrt(2).
+        let (z, d) = (0.5 * (1.5 + 2f64.sqrt()), 0.5 * (1.5 - 2f64.sqrt()));
+        check(recip(1.0, 2.0), -0.5, z, d);
+        check(recip(-2.0, -1.0), -0.5, -z, d);
+        // b > 4a: min-range -1/25; g = 1/x + x/25 decreasing from 1.04 to 0.4.
+        check(recip(1.0, 5.0), -0.04, 0.72, 0.32);
+        assert!(recip(-1.0, 1.0).is_entire());
+        assert!(recip(0.0, 1.0).is_entire());
+        assert!(recip(-1.0, -0.0).is_entire());
+    }
+
+    #[test]
+    fn exp_chebyshev_then_min_range() {
+        // Secant e - 1; g = 1 at both ends, (e-1)(1 - ln(e-1)) at ln(e-1).
+        check(
+            exp(0.0, 1.0),
+            std::f64::consts::E - 1.0,
+            0.8940665837422167,
+            0.10593341625778326,
+        );
+        // Chebyshev would go below 0: min-range alpha = 1, g = e^x - x ∈ [1, e^4 - 4].
+        check(exp(0.0, 4.0), 1.0, 25.79907501657212, 24.79907501657212);
+        assert!(exp(0.0, f64::INFINITY).is_entire());
+        assert!(exp(0.0, 1000.0).is_entire());
+    }
+
+    #[test]
+    fn ln_chebyshev() {
+        // Secant ln(8)/7; g = -ln(8)/7 at both ends, -ln(alpha) - 1 at 1/alpha.
+        check(
+            ln(1.0, 8.0),
+            0.2970630773828337,
+            -0.04162614820698288,
+            0.2554369291758508,
+        );
+        assert!(ln(0.0, 1.0).is_entire());
+        assert!(ln(-2.0, -1.0).is_entire());
+    }
+
+    #[test]
+    fn sin_cos_chebyshev_and_fallbacks() {
+        // Concave (sin > 0), no multiple of pi inside: secant slope.
+        check(
+            sin(0.5, 2.5),
+            0.059523302749876747,
+            0.6789684686476725,
+            0.22930458141840787,
+        );
+        // Convex (cos < 0), no pi/2 + k*pi inside.
+        check(
+            cos(2.0, 4.0),
+            -0.11874839215823476,
+            -0.4063249432647849,
+            0.22767489103411206,
+        );
+        // Inflection at 0: secant sin(0.1)/0.1 with the mean-value bound
+        // 0.1 * (alpha - cos(0.1)); g(0) = 0 so zeta = 0.
+        check(
+            sin(-0.1, 0.1),
+            0.9983341664682815,
+            0.0,
+            3.330001190255757e-4,
+        );
+        // Wide with inflections: the mean-value bound is worse than the range [-1, 1].
+        check(sin(-3.0, 3.0), 0.0, 0.0, 1.0);
+        check(cos(0.0, 100.0), 0.0, 0.0, 1.0);
+        check(sin(1e8, 1e8 + 1.0), 0.0, 0.0, 1.0);
+    }
+
+    #[test]
+    fn abs_cases() {
+        // alpha = 1/2; g = |x| - x/2: 3/2 at both ends, 0 at 0.
+        check(abs(-1.0, 3.0), 0.5, 0.75, 0.75);
+        assert_eq!(
+            abs(2.0, 5.0),
+            Approx {
+                alpha: 1.0,
+                zeta: 0.0,
+                delta: 0.0
+            }
+        );
+        assert_eq!(
+            abs(-5.0, -2.0),
+            Approx {
+                alpha: -1.0,
+                zeta: 0.0,
+                delta: 0.0
+            }
+        );
+        assert!(abs(f64::NEG_INFINITY, 1.0).is_entire());
+    }
+
+    #[test]
+    fn from_range_cases() {
+        assert_eq!(
+            Approx::from_range(1.0, 3.0),
+            Approx {
+                alpha: 0.0,
+                zeta: 2.0,
+                delta: 1.0
+            }
+        );
+        assert_eq!(Approx::from_range(2.0, 2.0), zero_width(2.0));
+        assert!(Approx::from_range(0.0, f64::INFINITY).is_entire());
+        assert!(Approx::from_range(f64::NAN, 1.0).is_entire());
+        // 0.1 + 0.2 style inexact midpoints: the half-widths are still covered.
+        let ap = Approx::from_range(0.1, 0.7);
+        assert!(ap.zeta - ap.delta <= 0.1 && ap.zeta + ap.delta >= 0.7);
+    }
+
+    #[test]
+    fn ranges_by_hand() {
+        assert_eq!(range_powi(-2.0, 3.0, 2), (0.0, 9.0));
+        assert_eq!(range_powi(-2.0, 3.0, 3), (-8.0, 27.0));
+        assert_eq!(range_powi(-3.0, -2.0, 2), (4.0, 9.0));
+        assert_eq!(range_powi(2.0, 4.0, -1), (0.25, 0.5));
+        assert_eq!(range_powi(-4.0, -2.0, -1), (-0.5, -0.25));
+        assert_eq!(range_powi(-2.0, -1.0, -2), (0.25, 1.0));
+        assert_eq!(range_powi(-1.0, 1.0, -2), (0.0, f64::INFINITY));
+        assert_eq!(
+            range_powi(-1.0, 1.0, -1),
+            (f64::NEG_INFINITY, f64::INFINITY)
+        );
+        assert_eq!(range_powi(-7.0, 5.0, 0), (1.0, 1.0));
+        assert_eq!(range_sqrt(-1.0, 4.0), (0.0, 2.0));
+        assert_eq!(range_sqrt(-2.0, -1.0), (0.0, 0.0));
+        let (lo, hi) = range_exp(0.0, 1.0);
+        let e = std::f64::consts::E;
+        assert!(lo <= 1.0 && lo > 1.0 - 1e-14 && hi >= e && hi < e + 1e-14);
+        let (lo, hi) = range_ln(0.0, 1.0);
+        assert!(lo == f64::NEG_INFINITY && hi >= 0.0 && hi < 1e-300);
+        assert_eq!(range_ln(-2.0, -1.0), (f64::NEG_INFINITY, f64::NEG_INFINITY));
+        // sin on [0, 3]: contains pi/2, min at 0.
+        let (lo, hi) = range_sin(0.0, 3.0);
+        assert!(lo <= 0.0 && lo > -1e-300 && hi == 1.0);
+        // sin on [4, 5]: contains 3pi/2; max sin(4) = -0.7568024953079283.
+        let (lo, hi) = range_sin(4.0, 5.0);
+        assert!(lo == -1.0 && hi >= -0.7568024953079283 && hi < -0.7568024953079);
+        // cos on [1, 2]: monotone.
+        let (lo, hi) = range_cos(1.0, 2.0);
+        assert!(lo <= -0.4161468365471424 && lo > -0.41614683654715);
+        assert!(hi >= 0.5403023058681398 && hi < 0.54030230586815);
+        assert_eq!(range_sin(0.0, 100.0), (-1.0, 1.0));
+        assert_eq!(range_cos(1e8, 1e8 + 0.5), (-1.0, 1.0));
+    }
 }
