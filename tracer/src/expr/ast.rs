@@ -1,0 +1,265 @@
+//! The syntax tree of a formula, and its printing back to text.
+//!
+//! Printing puts parentheses only where the grammar needs them, so that
+//! `parse_program(&p.to_string()) == Ok(p)` for every tree whose literals are finite and
+//! non-negative (the parser never produces others) and whose binding names are valid.
+
+use std::fmt;
+
+/// One of the three coordinates.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Var {
+    X,
+    Y,
+    Z,
+}
+
+impl Var {
+    pub fn name(self) -> &'static str {
+        match self {
+            Var::X => "x",
+            Var::Y => "y",
+            Var::Z => "z",
+        }
+    }
+}
+
+/// A named function.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Func {
+    Sqrt,
+    Sqr,
+    Exp,
+    Ln,
+    Sin,
+    Cos,
+    Abs,
+    Min,
+    Max,
+}
+
+impl Func {
+    /// Every function, for lookups and test generators.
+    pub const ALL: [Func; 9] = [
+        Func::Sqrt,
+        Func::Sqr,
+        Func::Exp,
+        Func::Ln,
+        Func::Sin,
+        Func::Cos,
+        Func::Abs,
+        Func::Min,
+        Func::Max,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Func::Sqrt => "sqrt",
+            Func::Sqr => "sqr",
+            Func::Exp => "exp",
+            Func::Ln => "ln",
+            Func::Sin => "sin",
+            Func::Cos => "cos",
+            Func::Abs => "abs",
+            Func::Min => "min",
+            Func::Max => "max",
+        }
+    }
+
+    /// Number of arguments.
+    pub fn arity(self) -> usize {
+        match self {
+            Func::Min | Func::Max => 2,
+            _ => 1,
+        }
+    }
+
+    pub fn from_name(s: &str) -> Option<Func> {
+        Func::ALL.into_iter().find(|f| f.name() == s)
+    }
+}
+
+/// A binary operator.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum BinOp {
+    Add,
+    Sub,
+    Mul,
+    Div,
+    /// R-function intersection `&`.
+    Intersect,
+    /// R-function union `|`.
+    Union,
+    /// R-function subtraction `\`.
+    Subtract,
+}
+
+impl BinOp {
+    pub const ALL: [BinOp; 7] = [
+        BinOp::Add,
+        BinOp::Sub,
+        BinOp::Mul,
+        BinOp::Div,
+        BinOp::Intersect,
+        BinOp::Union,
+        BinOp::Subtract,
+    ];
+
+    pub fn symbol(self) -> &'static str {
+        match self {
+            BinOp::Add => "+",
+            BinOp::Sub => "-",
+            BinOp::Mul => "*",
+            BinOp::Div => "/",
+            BinOp::Intersect => "&",
+            BinOp::Union => "|",
+            BinOp::Subtract => "\\",
+        }
+    }
+
+    /// Binding strength; all binary operators are left-associative.
+    pub(crate) fn prec(self) -> u8 {
+        match self {
+            BinOp::Union => PREC_UNION,
+            BinOp::Intersect | BinOp::Subtract => PREC_INTERSECT,
+            BinOp::Add | BinOp::Sub => PREC_SUM,
+            BinOp::Mul | BinOp::Div => PREC_PRODUCT,
+        }
+    }
+}
+
+pub(crate) const PREC_UNION: u8 = 1;
+pub(crate) const PREC_INTERSECT: u8 = 2;
+pub(crate) const PREC_SUM: u8 = 3;
+pub(crate) const PREC_PRODUCT: u8 = 4;
+pub(crate) const PREC_UNARY: u8 = 5;
+pub(crate) const PREC_POWER: u8 = 6;
+pub(crate) const PREC_PRIMARY: u8 = 7;
+
+/// An expression.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Expr {
+    /// A literal (the parser only makes finite, non-negative ones).
+    Num(f64),
+    Var(Var),
+    /// The value of binding number `i` of the enclosing [`Program`] (only earlier
+    /// bindings may be referred to).
+    Ref(usize),
+    Neg(Box<Expr>),
+    /// `base ^ n`.
+    Pow(Box<Expr>, i32),
+    Call(Func, Vec<Expr>),
+    Bin(BinOp, Box<Expr>, Box<Expr>),
+}
+
+impl Expr {
+    pub fn bin(op: BinOp, a: Expr, b: Expr) -> Expr {
+        Expr::Bin(op, Box::new(a), Box::new(b))
+    }
+    #[allow(clippy::should_implement_trait)]
+    pub fn neg(a: Expr) -> Expr {
+        Expr::Neg(Box::new(a))
+    }
+    pub fn pow(a: Expr, n: i32) -> Expr {
+        Expr::Pow(Box::new(a), n)
+    }
+
+    fn prec(&self) -> u8 {
+        match self {
+            Expr::Num(c) if c.is_sign_negative() || !c.is_finite() => PREC_PRIMARY,
+            Expr::Num(_) | Expr::Var(_) | Expr::Ref(_) | Expr::Call(..) => PREC_PRIMARY,
+            Expr::Neg(_) => PREC_UNARY,
+            Expr::Pow(..) => PREC_POWER,
+            Expr::Bin(op, ..) => op.prec(),
+        }
+    }
+}
+
+/// `name = expr;` before the final expression.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Binding {
+    pub name: String,
+    pub expr: Expr,
+}
+
+/// A whole formula: bindings, then the expression whose value is the function.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Program {
+    pub bindings: Vec<Binding>,
+    pub body: Expr,
+}
+
+impl Program {
+    fn write_expr(&self, f: &mut fmt::Formatter<'_>, e: &Expr) -> fmt::Result {
+        match e {
+            Expr::Num(c) => write_num(f, *c),
+            Expr::Var(v) => f.write_str(v.name()),
+            Expr::Ref(i) => match self.bindings.get(*i) {
+                Some(b) => f.write_str(&b.name),
+                // Not produced by the parser; printed so that re-parsing fails loudly.
+                None => write!(f, "?{i}"),
+            },
+            Expr::Neg(a) => {
+                f.write_str("-")?;
+                self.write_operand(f, a, a.prec() < PREC_UNARY)
+            }
+            Expr::Pow(a, n) => {
+                self.write_operand(f, a, a.prec() < PREC_PRIMARY)?;
+                write!(f, "^{n}")
+            }
+            Expr::Call(func, args) => {
+                write!(f, "{}(", func.name())?;
+                for (k, a) in args.iter().enumerate() {
+                    if k > 0 {
+                        f.write_str(", ")?;
+                    }
+                    self.write_expr(f, a)?;
+                }
+                f.write_str(")")
+            }
+            Expr::Bin(op, a, b) => {
+                let p = op.prec();
+                self.write_operand(f, a, a.prec() < p)?;
+                write!(f, " {} ", op.symbol())?;
+                self.write_operand(f, b, b.prec() <= p)
+            }
+        }
+    }
+
+    fn write_operand(&self, f: &mut fmt::Formatter<'_>, e: &Expr, paren: bool) -> fmt::Result {
+        if paren {
+            f.write_str("(")?;
+            self.write_expr(f, e)?;
+            f.write_str(")")
+        } else {
+            self.write_expr(f, e)
+        }
+    }
+}
+
+/// Literals print in Rust's shortest round-trip form; negative and non-finite values
+/// (only from folded or hand-built trees) print as parenthesised expressions.
+fn write_num(f: &mut fmt::Formatter<'_>, c: f64) -> fmt::Result {
+    if c.is_nan() {
+        f.write_str("(0/0)")
+    } else if c == f64::INFINITY {
+        f.write_str("(1/0)")
+    } else if c == f64::NEG_INFINITY {
+        f.write_str("(-1/0)")
+    } else if c.is_sign_negative() {
+        write!(f, "(-{:?})", -c)
+    } else {
+        write!(f, "{c:?}")
+    }
+}
+
+impl fmt::Display for Program {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        for b in &self.bindings {
+            write!(f, "{} = ", b.name)?;
+            self.write_expr(f, &b.expr)?;
+            f.write_str("; ")?;
+        }
+        self.write_expr(f, &self.body)
+    }
+}

@@ -1,0 +1,55 @@
+//! Formulas from text: `tracer render --expr "FORMULA"`.
+//!
+//! A formula over `x, y, z` is parsed ([`parse`]) into a [`Tape`], a flat list of
+//! instructions that evaluates at points (`f64`) and over every [`arith_core::Range`],
+//! like the hand-written models (it implements [`Shape`]).
+//!
+//! The language:
+//! - numbers `2`, `0.36`, `.5`, `1e-3`, `2.5E+2`; variables `x`, `y`, `z`;
+//! - `+ - * /`, unary `-`, `^` with an integer exponent (`x^-2`, `2^3^2 = 2^9`;
+//!   right-associative and tighter than unary minus: `-x^2 = -(x^2)`);
+//! - functions `sqrt sqr exp ln sin cos abs` (one argument) and `min max` (two);
+//! - R-functions `&` (intersection), `\` (subtraction), `|` (union), looser than
+//!   arithmetic, `&` and `\` tighter than `|`, all left-associative:
+//!   `a | b & c = a | (b & c)`, `a \ b & c = (a \ b) & c`;
+//! - bindings `name = expr;` before the final expression, each usable by later ones:
+//!   `b = 0.36 - x^2; s = 0.7 - x^2 - y^2; b | s`;
+//! - whitespace and newlines are ignored, `#` starts a comment to the end of the line.
+//!
+//! ```
+//! use tracer::expr::parse;
+//! let t = parse("s = 1 - x^2 - y^2 - z^2; s & -z").unwrap();
+//! assert!(t.eval(0.0_f64, 0.0, -0.5) > 0.0);
+//! let e = parse("(x + 1").unwrap_err();
+//! assert_eq!(e.to_string(), "error at column 7: expected ')' to close the '(' at column 1 but found end of input");
+//! ```
+
+mod ast;
+mod parse;
+mod tape;
+
+pub use ast::{BinOp, Binding, Expr, Func, Program, Var};
+pub use parse::{parse_program, ParseError, MAX_EXPONENT, MAX_NESTING, MAX_TREE_DEPTH};
+pub use tape::{CompileError, Instr, Op, Tape};
+
+use crate::shape::Shape;
+use arith_core::Real;
+
+/// Parses and compiles a formula.
+pub fn parse(src: &str) -> Result<Tape, ParseError> {
+    let program = parse_program(src)?;
+    // The parser only builds trees the compiler accepts; should that ever fail, report
+    // it as an error at the start rather than panic.
+    Tape::compile(&program).map_err(|e| ParseError {
+        pos: 0,
+        message: format!("internal error: {e}"),
+        line: 1,
+        column: 1,
+    })
+}
+
+impl Shape for Tape {
+    fn eval<R: Real>(&self, x: R, y: R, z: R) -> R {
+        Tape::eval(self, x, y, z)
+    }
+}

@@ -1,0 +1,592 @@
+//! Lexer and recursive-descent parser. Every malformed input is an [`ParseError`] with
+//! the position of the offending token; nesting is bounded so that no input can
+//! overflow the stack (here, in compilation, printing or dropping the tree).
+//!
+//! Grammar (whitespace and `#` comments to end of line are ignored):
+//! ```text
+//! program  := (NAME '=' union ';')* union ';'? END
+//! union    := inter ('|' inter)*
+//! inter    := sum (('&' | '\') sum)*
+//! sum      := product (('+' | '-') product)*
+//! product  := unary (('*' | '/') unary)*
+//! unary    := '-' unary | power
+//! power    := primary ('^' exponent)?
+//! exponent := '-'? INTEGER ('^' exponent)? | '(' exponent ')'
+//! primary  := NUMBER | NAME | NAME '(' union (',' union)* ')' | '(' union ')'
+//! ```
+
+use super::ast::{BinOp, Binding, Expr, Func, Program, Var};
+use std::collections::HashMap;
+use std::fmt;
+
+/// A malformed formula: where and what.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ParseError {
+    /// 0-based offset in characters (not bytes) into the formula.
+    pub pos: usize,
+    /// What was expected or what is wrong, without the position.
+    pub message: String,
+    /// 1-based line of `pos`.
+    pub line: usize,
+    /// 1-based column of `pos` within its line.
+    pub column: usize,
+}
+
+impl ParseError {
+    fn new(chars: &[char], pos: usize, message: impl Into<String>) -> Self {
+        let pos = pos.min(chars.len());
+        let before = &chars[..pos];
+        let line = 1 + before.iter().filter(|&&c| c == '\n').count();
+        let line_start = before.iter().rposition(|&c| c == '\n').map_or(0, |i| i + 1);
+        ParseError {
+            pos,
+            message: message.into(),
+            line,
+            column: pos - line_start + 1,
+        }
+    }
+
+    /// The error, the offending line of `src` and a caret under the position, e.g.
+    /// ```text
+    /// error at column 7: expected ')' but found end of input
+    ///   (x + 1
+    ///         ^
+    /// ```
+    pub fn render(&self, src: &str) -> String {
+        let line = src.split('\n').nth(self.line - 1).unwrap_or("");
+        let line = line.strip_suffix('\r').unwrap_or(line);
+        // Copy tabs so the caret lines up however the terminal expands them.
+        let pad: String = line
+            .chars()
+            .take(self.column - 1)
+            .map(|c| if c == '\t' { '\t' } else { ' ' })
+            .collect();
+        format!("{self}\n  {line}\n  {pad}^")
+    }
+}
+
+impl fmt::Display for ParseError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.line == 1 {
+            write!(f, "error at column {}: {}", self.column, self.message)
+        } else {
+            write!(
+                f,
+                "error at line {}, column {}: {}",
+                self.line, self.column, self.message
+            )
+        }
+    }
+}
+
+impl std::error::Error for ParseError {}
+
+/// Deepest nesting of parentheses, calls and unary minus signs accepted.
+pub const MAX_NESTING: usize = 200;
+/// Deepest syntax tree accepted (long chains like `x + x + ... + x` nest to the left).
+pub const MAX_TREE_DEPTH: usize = 2000;
+/// Largest exponent magnitude accepted after `^`.
+pub const MAX_EXPONENT: i64 = 1024;
+
+#[derive(Clone, Debug, PartialEq)]
+enum Tok {
+    /// Value and whether the literal is a plain digit string (usable as an exponent).
+    Num(f64, bool),
+    Name(String),
+    Sym(char),
+    End,
+}
+
+#[derive(Clone, Debug)]
+struct Token {
+    tok: Tok,
+    pos: usize,
+    text: String,
+}
+
+fn describe(t: &Token) -> String {
+    match &t.tok {
+        Tok::End => "end of input".into(),
+        Tok::Num(..) => format!("number '{}'", t.text),
+        Tok::Name(n) => format!("name '{n}'"),
+        Tok::Sym(c) => format!("'{c}'"),
+    }
+}
+
+fn lex(chars: &[char]) -> Result<Vec<Token>, ParseError> {
+    let mut out = Vec::new();
+    let mut i = 0;
+    let n = chars.len();
+    let is_word = |c: char| c.is_ascii_alphanumeric() || c == '_' || c == '.';
+    while i < n {
+        let c = chars[i];
+        if c.is_whitespace() {
+            i += 1;
+        } else if c == '#' {
+            while i < n && chars[i] != '\n' {
+                i += 1;
+            }
+        } else if c.is_ascii_digit() || (c == '.' && i + 1 < n && chars[i + 1].is_ascii_digit()) {
+            let start = i;
+            let digits = |i: &mut usize| {
+                let s = *i;
+                while *i < n && chars[*i].is_ascii_digit() {
+                    *i += 1;
+                }
+                *i > s
+            };
+            digits(&mut i);
+            let mut integer = true;
+            if i < n && chars[i] == '.' {
+                integer = false;
+                i += 1;
+                digits(&mut i);
+            }
+            if i < n && (chars[i] == 'e' || chars[i] == 'E') {
+                integer = false;
+                let e = i;
+                i += 1;
+                if i < n && (chars[i] == '+' || chars[i] == '-') {
+                    i += 1;
+                }
+                if !digits(&mut i) {
+                    let text: String = chars[start..i].iter().collect();
+                    return Err(ParseError::new(
+                        chars,
+                        e,
+                        format!("invalid number '{text}': expected digits after the exponent mark"),
+                    ));
+                }
+            }
+            if i < n && is_word(chars[i]) {
+                let mut j = i;
+                while j < n && is_word(chars[j]) {
+                    j += 1;
+                }
+                let text: String = chars[start..j].iter().collect();
+                return Err(ParseError::new(
+                    chars,
+                    start,
+                    format!("invalid number '{text}' (a product needs '*', as in 2*x)"),
+                ));
+            }
+            let text: String = chars[start..i].iter().collect();
+            let v: f64 = match text.parse() {
+                Ok(v) => v,
+                Err(_) => {
+                    return Err(ParseError::new(chars, start, format!("invalid number '{text}'")))
+                }
+            };
+            if !v.is_finite() {
+                return Err(ParseError::new(
+                    chars,
+                    start,
+                    format!("number '{text}' is too large"),
+                ));
+            }
+            out.push(Token { tok: Tok::Num(v, integer), pos: start, text });
+        } else if c.is_ascii_alphabetic() || c == '_' {
+            let start = i;
+            while i < n && (chars[i].is_ascii_alphanumeric() || chars[i] == '_') {
+                i += 1;
+            }
+            let text: String = chars[start..i].iter().collect();
+            out.push(Token { tok: Tok::Name(text.clone()), pos: start, text });
+        } else if "+-*/^&|\\(),;=".contains(c) {
+            out.push(Token { tok: Tok::Sym(c), pos: i, text: c.to_string() });
+            i += 1;
+        } else {
+            return Err(ParseError::new(
+                chars,
+                i,
+                format!("unexpected character '{}'", c.escape_debug()),
+            ));
+        }
+    }
+    out.push(Token { tok: Tok::End, pos: n, text: String::new() });
+    Ok(out)
+}
+
+struct Parser<'a> {
+    chars: &'a [char],
+    toks: Vec<Token>,
+    i: usize,
+    nesting: usize,
+    names: Vec<String>,
+    index: HashMap<String, usize>,
+}
+
+/// A subtree and its depth.
+type Node = (Expr, usize);
+
+impl Parser<'_> {
+    fn peek(&self) -> &Token {
+        &self.toks[self.i.min(self.toks.len() - 1)]
+    }
+    fn peek_at(&self, k: usize) -> &Token {
+        &self.toks[(self.i + k).min(self.toks.len() - 1)]
+    }
+    fn bump(&mut self) -> Token {
+        let t = self.peek().clone();
+        if self.i < self.toks.len() - 1 {
+            self.i += 1;
+        }
+        t
+    }
+    fn is_sym(&self, c: char) -> bool {
+        self.peek().tok == Tok::Sym(c)
+    }
+    fn err_at<T>(&self, pos: usize, msg: impl Into<String>) -> Result<T, ParseError> {
+        Err(ParseError::new(self.chars, pos, msg))
+    }
+    fn expected<T>(&self, what: &str) -> Result<T, ParseError> {
+        let t = self.peek();
+        self.err_at(t.pos, format!("expected {what} but found {}", describe(t)))
+    }
+    fn enter(&mut self) -> Result<(), ParseError> {
+        self.nesting += 1;
+        if self.nesting > MAX_NESTING {
+            let pos = self.peek().pos;
+            return self.err_at(
+                pos,
+                format!("formula nested too deeply (more than {MAX_NESTING} levels)"),
+            );
+        }
+        Ok(())
+    }
+    fn node(&self, e: Expr, depth: usize, pos: usize) -> Result<Node, ParseError> {
+        if depth > MAX_TREE_DEPTH {
+            return self.err_at(
+                pos,
+                format!("formula too long or deep (syntax tree deeper than {MAX_TREE_DEPTH})"),
+            );
+        }
+        Ok((e, depth))
+    }
+
+    fn program(&mut self) -> Result<Program, ParseError> {
+        if self.peek().tok == Tok::End {
+            return self.err_at(0, "empty formula");
+        }
+        let mut bindings: Vec<Binding> = Vec::new();
+        while let (Tok::Name(name), Tok::Sym('=')) = (&self.peek().tok, &self.peek_at(1).tok) {
+            let name = name.clone();
+            let pos = self.peek().pos;
+            if ["x", "y", "z"].contains(&name.as_str()) {
+                return self.err_at(pos, format!("cannot bind '{name}': it is a coordinate"));
+            }
+            if Func::from_name(&name).is_some() {
+                return self.err_at(pos, format!("cannot bind '{name}': it is a function name"));
+            }
+            if self.index.contains_key(&name) {
+                return self.err_at(pos, format!("'{name}' is already bound"));
+            }
+            self.bump();
+            self.bump();
+            let (expr, _) = self.union()?;
+            if !self.is_sym(';') {
+                return self.expected(&format!("';' after the binding of '{name}'"));
+            }
+            self.bump();
+            self.index.insert(name.clone(), self.names.len());
+            self.names.push(name.clone());
+            bindings.push(Binding { name, expr });
+            if self.peek().tok == Tok::End {
+                return self.expected("the final expression after the bindings");
+            }
+        }
+        let (body, _) = self.union()?;
+        if self.is_sym(';') {
+            self.bump();
+            if self.peek().tok != Tok::End {
+                let pos = self.peek().pos;
+                return self.err_at(
+                    pos,
+                    "only bindings 'name = expression;' may come before the final expression",
+                );
+            }
+        }
+        if self.peek().tok != Tok::End {
+            return self.expected("an operator or end of input");
+        }
+        Ok(Program { bindings, body })
+    }
+
+    fn union(&mut self) -> Result<Node, ParseError> {
+        self.enter()?;
+        let (mut e, mut d) = self.inter()?;
+        while self.is_sym('|') {
+            let pos = self.bump().pos;
+            let (r, rd) = self.inter()?;
+            (e, d) = self.node(Expr::bin(BinOp::Union, e, r), 1 + d.max(rd), pos)?;
+        }
+        self.nesting -= 1;
+        Ok((e, d))
+    }
+
+    fn inter(&mut self) -> Result<Node, ParseError> {
+        let (mut e, mut d) = self.sum()?;
+        loop {
+            let op = match self.peek().tok {
+                Tok::Sym('&') => BinOp::Intersect,
+                Tok::Sym('\\') => BinOp::Subtract,
+                _ => return Ok((e, d)),
+            };
+            let pos = self.bump().pos;
+            let (r, rd) = self.sum()?;
+            (e, d) = self.node(Expr::bin(op, e, r), 1 + d.max(rd), pos)?;
+        }
+    }
+
+    fn sum(&mut self) -> Result<Node, ParseError> {
+        let (mut e, mut d) = self.product()?;
+        loop {
+            let op = match self.peek().tok {
+                Tok::Sym('+') => BinOp::Add,
+                Tok::Sym('-') => BinOp::Sub,
+                _ => return Ok((e, d)),
+            };
+            let pos = self.bump().pos;
+            let (r, rd) = self.product()?;
+            (e, d) = self.node(Expr::bin(op, e, r), 1 + d.max(rd), pos)?;
+        }
+    }
+
+    fn product(&mut self) -> Result<Node, ParseError> {
+        let (mut e, mut d) = self.unary()?;
+        loop {
+            let op = match self.peek().tok {
+                Tok::Sym('*') => BinOp::Mul,
+                Tok::Sym('/') => BinOp::Div,
+                _ => return Ok((e, d)),
+            };
+            let pos = self.bump().pos;
+            let (r, rd) = self.unary()?;
+            (e, d) = self.node(Expr::bin(op, e, r), 1 + d.max(rd), pos)?;
+        }
+    }
+
+    fn unary(&mut self) -> Result<Node, ParseError> {
+        if self.is_sym('-') {
+            let pos = self.bump().pos;
+            self.enter()?;
+            let (e, d) = self.unary()?;
+            self.nesting -= 1;
+            return self.node(Expr::neg(e), d + 1, pos);
+        }
+        self.power()
+    }
+
+    fn power(&mut self) -> Result<Node, ParseError> {
+        let (e, d) = self.primary()?;
+        if self.is_sym('^') {
+            let pos = self.bump().pos;
+            let n = self.exponent(0)?;
+            return self.node(Expr::pow(e, n as i32), d + 1, pos);
+        }
+        Ok((e, d))
+    }
+
+    /// An integer exponent, evaluated now; `2^3^2 = 2^9`.
+    fn exponent(&mut self, depth: usize) -> Result<i64, ParseError> {
+        if depth > MAX_NESTING {
+            let pos = self.peek().pos;
+            return self.err_at(pos, "exponent nested too deeply");
+        }
+        if self.is_sym('(') {
+            let open = self.bump().pos;
+            let n = self.exponent(depth + 1)?;
+            if !self.is_sym(')') {
+                let t = self.peek();
+                return self.err_at(
+                    t.pos,
+                    format!(
+                        "expected ')' to close the '(' at column {} but found {}",
+                        ParseError::new(self.chars, open, "").column,
+                        describe(t)
+                    ),
+                );
+            }
+            self.bump();
+            return self.check_exponent(n, open);
+        }
+        let start = self.peek().pos;
+        let negative = self.is_sym('-');
+        if negative {
+            self.bump();
+        }
+        let t = self.peek().clone();
+        let base = match t.tok {
+            Tok::Num(_, true) => match t.text.parse::<i64>() {
+                Ok(v) if v <= MAX_EXPONENT => v,
+                _ => {
+                    return self.err_at(
+                        t.pos,
+                        format!("exponent {} is too large (at most {MAX_EXPONENT})", t.text),
+                    )
+                }
+            },
+            Tok::Num(_, false) => {
+                return self.err_at(
+                    t.pos,
+                    format!("the exponent after '^' must be an integer, found {}", describe(&t)),
+                )
+            }
+            _ => return self.expected("an integer exponent after '^'"),
+        };
+        self.bump();
+        let mut n = base;
+        if self.is_sym('^') {
+            let pos = self.bump().pos;
+            let e = self.exponent(depth + 1)?;
+            n = int_pow(base, e).ok_or_else(|| {
+                ParseError::new(
+                    self.chars,
+                    pos,
+                    format!(
+                        "exponent {base}^{e} is not an integer of magnitude at most {MAX_EXPONENT}"
+                    ),
+                )
+            })?;
+        }
+        self.check_exponent(if negative { -n } else { n }, start)
+    }
+
+    fn check_exponent(&self, n: i64, pos: usize) -> Result<i64, ParseError> {
+        if n.abs() > MAX_EXPONENT {
+            return self.err_at(pos, format!("exponent {n} is too large (at most {MAX_EXPONENT})"));
+        }
+        Ok(n)
+    }
+
+    fn primary(&mut self) -> Result<Node, ParseError> {
+        let t = self.peek().clone();
+        match t.tok {
+            Tok::Num(v, _) => {
+                self.bump();
+                Ok((Expr::Num(v), 1))
+            }
+            Tok::Sym('(') => {
+                self.bump();
+                let (e, d) = self.union()?;
+                if !self.is_sym(')') {
+                    let col = ParseError::new(self.chars, t.pos, "").column;
+                    return self.expected(&format!("')' to close the '(' at column {col}"));
+                }
+                self.bump();
+                Ok((e, d))
+            }
+            Tok::Name(name) => {
+                self.bump();
+                let call = self.is_sym('(');
+                if let Some(f) = Func::from_name(&name) {
+                    if !call {
+                        return self.expected(&format!("'(' after the function name '{name}'"));
+                    }
+                    return self.call(f, t.pos);
+                }
+                if call {
+                    let what = if ["x", "y", "z"].contains(&name.as_str())
+                        || self.index.contains_key(&name)
+                    {
+                        format!("'{name}' is not a function")
+                    } else {
+                        format!(
+                            "unknown function '{name}' (known: sqrt sqr exp ln sin cos abs min max)"
+                        )
+                    };
+                    return self.err_at(t.pos, what);
+                }
+                let e = match name.as_str() {
+                    "x" => Expr::Var(Var::X),
+                    "y" => Expr::Var(Var::Y),
+                    "z" => Expr::Var(Var::Z),
+                    _ => match self.index.get(&name) {
+                        Some(&i) => Expr::Ref(i),
+                        None => {
+                            return self.err_at(
+                                t.pos,
+                                format!(
+                                    "unknown variable '{name}' (use x, y, z or a name bound earlier with '{name} = ...;')"
+                                ),
+                            )
+                        }
+                    },
+                };
+                Ok((e, 1))
+            }
+            _ => self.expected("a number, a variable, a function or '('"),
+        }
+    }
+
+    fn call(&mut self, f: Func, pos: usize) -> Result<Node, ParseError> {
+        let open = self.bump().pos;
+        let mut args = Vec::new();
+        let mut depth = 0;
+        if !self.is_sym(')') {
+            loop {
+                let (a, d) = self.union()?;
+                args.push(a);
+                depth = depth.max(d);
+                if self.is_sym(',') {
+                    self.bump();
+                } else {
+                    break;
+                }
+            }
+        }
+        if !self.is_sym(')') {
+            let col = ParseError::new(self.chars, open, "").column;
+            return self.expected(&format!("',' or ')' to close the '(' at column {col}"));
+        }
+        self.bump();
+        if args.len() != f.arity() {
+            let plural = if f.arity() == 1 { "" } else { "s" };
+            return self.err_at(
+                pos,
+                format!(
+                    "{} takes {} argument{plural} but was given {}",
+                    f.name(),
+                    f.arity(),
+                    args.len()
+                ),
+            );
+        }
+        self.node(Expr::Call(f, args), depth + 1, pos)
+    }
+}
+
+/// `base^e` as an integer of magnitude at most [`MAX_EXPONENT`], if it is one.
+fn int_pow(base: i64, e: i64) -> Option<i64> {
+    if e < 0 {
+        // Only 1 and -1 have integer reciprocal powers.
+        return match base {
+            1 => Some(1),
+            -1 => Some(if e % 2 == 0 { 1 } else { -1 }),
+            _ => None,
+        };
+    }
+    let mut acc: i64 = 1;
+    for _ in 0..e {
+        acc = acc.checked_mul(base)?;
+        if acc.abs() > MAX_EXPONENT {
+            return None;
+        }
+        if acc == 0 || acc == 1 {
+            // 0 and 1 are fixed points: stop early on huge exponents.
+            break;
+        }
+    }
+    if base == -1 {
+        acc = if e % 2 == 0 { 1 } else { -1 };
+    }
+    Some(acc)
+}
+
+/// Parses a formula into its syntax tree.
+pub fn parse_program(src: &str) -> Result<Program, ParseError> {
+    let chars: Vec<char> = src.chars().collect();
+    let toks = lex(&chars)?;
+    let mut p = Parser { chars: &chars, toks, i: 0, nesting: 0, names: Vec::new(), index: HashMap::new() };
+    p.program()
+}

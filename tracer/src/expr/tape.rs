@@ -1,0 +1,696 @@
+//! The tape: a formula compiled to a flat list of SSA instructions, interpreted over any
+//! [`Real`].
+//!
+//! Compilation folds constant subexpressions **only when the `f64` result is exact**
+//! (checked with error-free transformations): a folded constant then equals the real
+//! value, so range evaluation stays sound; an inexact one such as `1/3` stays an
+//! instruction and every [`arith_core::Range`] encloses it. Identical subexpressions
+//! (and every let-bound value) are computed once (hash-consing); unused bindings are
+//! dropped. Each operand carries a "last use" flag so the interpreter moves values out
+//! of registers instead of cloning them (which matters for heap-backed affine forms).
+
+use super::ast::{BinOp, Expr, Func, Program, Var};
+use arith_core::round::two_sum;
+use arith_core::{rfunc, Real};
+use std::any::Any;
+use std::cell::RefCell;
+use std::collections::HashMap;
+use std::fmt;
+
+/// What an instruction computes. `a`, `b` are operand registers, `c` an `f64` constant,
+/// `n` an integer exponent.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Op {
+    X,
+    Y,
+    Z,
+    /// `c`
+    Const,
+    Neg,
+    Sqr,
+    /// `a^n`
+    Powi,
+    Sqrt,
+    Exp,
+    Ln,
+    Sin,
+    Cos,
+    Abs,
+    /// `a + c`
+    AddC,
+    /// `a - c`
+    SubC,
+    /// `c - a`
+    RSubC,
+    /// `a * c`
+    MulC,
+    /// `a / c`
+    DivC,
+    /// `c / a`
+    RDivC,
+    Add,
+    Sub,
+    Mul,
+    Div,
+    Min,
+    Max,
+    /// R-function `a & b`
+    Intersect,
+    /// R-function `a | b`
+    Union,
+    /// R-function `a \ b`
+    Subtract,
+}
+
+impl Op {
+    /// Number of register operands.
+    pub fn arity(self) -> usize {
+        use Op::*;
+        match self {
+            X | Y | Z | Const => 0,
+            Neg | Sqr | Powi | Sqrt | Exp | Ln | Sin | Cos | Abs => 1,
+            AddC | SubC | RSubC | MulC | DivC | RDivC => 1,
+            Add | Sub | Mul | Div | Min | Max | Intersect | Union | Subtract => 2,
+        }
+    }
+
+    /// Lower-case mnemonic used in listings.
+    pub fn name(self) -> &'static str {
+        use Op::*;
+        match self {
+            X => "x",
+            Y => "y",
+            Z => "z",
+            Const => "const",
+            Neg => "neg",
+            Sqr => "sqr",
+            Powi => "powi",
+            Sqrt => "sqrt",
+            Exp => "exp",
+            Ln => "ln",
+            Sin => "sin",
+            Cos => "cos",
+            Abs => "abs",
+            AddC => "addc",
+            SubC => "subc",
+            RSubC => "rsubc",
+            MulC => "mulc",
+            DivC => "divc",
+            RDivC => "rdivc",
+            Add => "add",
+            Sub => "sub",
+            Mul => "mul",
+            Div => "div",
+            Min => "min",
+            Max => "max",
+            Intersect => "intersect",
+            Union => "union",
+            Subtract => "subtract",
+        }
+    }
+
+    fn commutative(self) -> bool {
+        matches!(
+            self,
+            Op::Add | Op::Mul | Op::Min | Op::Max | Op::Intersect | Op::Union
+        )
+    }
+}
+
+/// One tape instruction; its result is the register with its own index.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Instr {
+    pub op: Op,
+    /// Exponent of [`Op::Powi`], 0 otherwise.
+    pub n: i32,
+    /// Operand registers (unused ones are 0).
+    pub a: u32,
+    pub b: u32,
+    /// Constant of [`Op::Const`] and the `...C` ops, 0 otherwise.
+    pub c: f64,
+    /// Bit 0: this is the last read of `a`; bit 1: of `b` (the value is moved, not cloned).
+    pub last: u8,
+}
+
+impl Instr {
+    fn new(op: Op, a: u32, b: u32, n: i32, c: f64) -> Self {
+        Instr { op, n, a, b, c, last: 0 }
+    }
+
+    /// Register operands, in reading order.
+    pub fn operands(&self) -> &'static [usize] {
+        match self.op.arity() {
+            0 => &[],
+            1 => &[0],
+            _ => &[0, 1],
+        }
+    }
+
+    fn reg(&self, k: usize) -> u32 {
+        if k == 0 {
+            self.a
+        } else {
+            self.b
+        }
+    }
+
+    fn key(&self) -> (Op, i32, u32, u32, u64) {
+        (self.op, self.n, self.a, self.b, self.c.to_bits())
+    }
+}
+
+impl fmt::Display for Instr {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.op.name())?;
+        for &k in self.operands() {
+            let sep = if k == 0 { " " } else { ", " };
+            let moved = if self.last & (1 << k) != 0 { "!" } else { "" };
+            write!(f, "{sep}r{}{moved}", self.reg(k))?;
+        }
+        match self.op {
+            Op::Const => write!(f, " {:?}", self.c),
+            Op::Powi => write!(f, ", {}", self.n),
+            Op::AddC | Op::SubC | Op::RSubC | Op::MulC | Op::DivC | Op::RDivC => {
+                write!(f, ", {:?}", self.c)
+            }
+            _ => Ok(()),
+        }
+    }
+}
+
+/// A compiled formula: evaluate it with [`Tape::eval`] (or through [`crate::shape::Shape`]).
+#[derive(Clone, Debug)]
+pub struct Tape {
+    ins: Vec<Instr>,
+}
+
+/// Why a hand-built [`Program`] cannot be compiled (the parser never produces one).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct CompileError(pub String);
+
+impl fmt::Display for CompileError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for CompileError {}
+
+#[derive(Clone, Copy, Debug)]
+enum Val {
+    C(f64),
+    R(u32),
+}
+
+struct Builder {
+    ins: Vec<Instr>,
+    memo: HashMap<(Op, i32, u32, u32, u64), u32>,
+}
+
+impl Builder {
+    fn emit(&mut self, mut i: Instr) -> u32 {
+        if i.op.commutative() && i.a > i.b {
+            std::mem::swap(&mut i.a, &mut i.b);
+        }
+        if i.op == Op::Mul && i.a == i.b {
+            // `a * a` as `sqr(a)`: the same `f64` value, never a wider range.
+            i = Instr::new(Op::Sqr, i.a, 0, 0, 0.0);
+        }
+        *self.memo.entry(i.key()).or_insert_with(|| {
+            self.ins.push(i);
+            (self.ins.len() - 1) as u32
+        })
+    }
+
+    fn reg(&mut self, v: Val) -> u32 {
+        match v {
+            Val::R(r) => r,
+            Val::C(c) => self.emit(Instr::new(Op::Const, 0, 0, 0, c)),
+        }
+    }
+
+    fn unary(&mut self, op: Op, v: Val) -> Val {
+        let a = self.reg(v);
+        Val::R(self.emit(Instr::new(op, a, 0, 0, 0.0)))
+    }
+
+    fn powi(&mut self, v: Val, n: i32) -> Val {
+        if let Val::C(c) = v {
+            if let Some(p) = exact_powi(c, n) {
+                return Val::C(p);
+            }
+        }
+        let a = self.reg(v);
+        Val::R(match n {
+            1 => a,
+            2 => self.emit(Instr::new(Op::Sqr, a, 0, 0, 0.0)),
+            _ => self.emit(Instr::new(Op::Powi, a, 0, n, 0.0)),
+        })
+    }
+
+    fn binary(&mut self, op: BinOp, l: Val, r: Val) -> Val {
+        if let (Val::C(a), Val::C(b)) = (l, r) {
+            if let Some(v) = fold_bin(op, a, b) {
+                return Val::C(v);
+            }
+        }
+        let with_c = |op: Op, a: u32, c: f64| Instr::new(op, a, 0, 0, c);
+        let i = match (op, l, r) {
+            (BinOp::Add, Val::R(a), Val::C(c)) | (BinOp::Add, Val::C(c), Val::R(a)) => {
+                with_c(Op::AddC, a, c)
+            }
+            (BinOp::Sub, Val::R(a), Val::C(c)) => with_c(Op::SubC, a, c),
+            (BinOp::Sub, Val::C(c), Val::R(a)) => with_c(Op::RSubC, a, c),
+            (BinOp::Mul, Val::R(a), Val::C(c)) | (BinOp::Mul, Val::C(c), Val::R(a)) => {
+                with_c(Op::MulC, a, c)
+            }
+            (BinOp::Div, Val::R(a), Val::C(c)) => with_c(Op::DivC, a, c),
+            (BinOp::Div, Val::C(c), Val::R(a)) => with_c(Op::RDivC, a, c),
+            (BinOp::Add | BinOp::Sub | BinOp::Mul | BinOp::Div, Val::C(a), Val::C(c)) => {
+                // Both constant but not exactly foldable: evaluate in the arithmetic.
+                let a = self.reg(Val::C(a));
+                let op = match op {
+                    BinOp::Add => Op::AddC,
+                    BinOp::Sub => Op::SubC,
+                    BinOp::Mul => Op::MulC,
+                    _ => Op::DivC,
+                };
+                with_c(op, a, c)
+            }
+            _ => {
+                let a = self.reg(l);
+                let b = self.reg(r);
+                let op = match op {
+                    BinOp::Add => Op::Add,
+                    BinOp::Sub => Op::Sub,
+                    BinOp::Mul => Op::Mul,
+                    BinOp::Div => Op::Div,
+                    BinOp::Intersect => Op::Intersect,
+                    BinOp::Union => Op::Union,
+                    BinOp::Subtract => Op::Subtract,
+                };
+                Instr::new(op, a, b, 0, 0.0)
+            }
+        };
+        Val::R(self.emit(i))
+    }
+
+    fn expr(&mut self, e: &Expr, binds: &[Val]) -> Result<Val, CompileError> {
+        Ok(match e {
+            Expr::Num(c) => Val::C(*c),
+            Expr::Var(v) => {
+                let op = match v {
+                    Var::X => Op::X,
+                    Var::Y => Op::Y,
+                    Var::Z => Op::Z,
+                };
+                Val::R(self.emit(Instr::new(op, 0, 0, 0, 0.0)))
+            }
+            Expr::Ref(i) => *binds.get(*i).ok_or_else(|| {
+                CompileError(format!("binding #{i} used before it is defined"))
+            })?,
+            Expr::Neg(a) => match self.expr(a, binds)? {
+                Val::C(c) => Val::C(-c),
+                v => self.unary(Op::Neg, v),
+            },
+            Expr::Pow(a, n) => {
+                let v = self.expr(a, binds)?;
+                self.powi(v, *n)
+            }
+            Expr::Call(f, args) => {
+                if args.len() != f.arity() {
+                    return Err(CompileError(format!(
+                        "{} takes {} argument(s), not {}",
+                        f.name(),
+                        f.arity(),
+                        args.len()
+                    )));
+                }
+                let v = self.expr(&args[0], binds)?;
+                match f {
+                    Func::Min | Func::Max => {
+                        let w = self.expr(&args[1], binds)?;
+                        if let (Val::C(a), Val::C(b)) = (v, w) {
+                            // min and max of finite values are exact.
+                            return Ok(Val::C(if *f == Func::Min {
+                                Real::min(&a, &b)
+                            } else {
+                                Real::max(&a, &b)
+                            }));
+                        }
+                        let (a, b) = (self.reg(v), self.reg(w));
+                        let op = if *f == Func::Min { Op::Min } else { Op::Max };
+                        Val::R(self.emit(Instr::new(op, a, b, 0, 0.0)))
+                    }
+                    Func::Sqr => self.powi(v, 2),
+                    _ => {
+                        let op = match f {
+                            Func::Sqrt => Op::Sqrt,
+                            Func::Exp => Op::Exp,
+                            Func::Ln => Op::Ln,
+                            Func::Sin => Op::Sin,
+                            Func::Cos => Op::Cos,
+                            _ => Op::Abs,
+                        };
+                        if let Val::C(c) = v {
+                            if let Some(r) = fold_unary(op, c) {
+                                return Ok(Val::C(r));
+                            }
+                        }
+                        self.unary(op, v)
+                    }
+                }
+            }
+            Expr::Bin(op, a, b) => {
+                let l = self.expr(a, binds)?;
+                let r = self.expr(b, binds)?;
+                self.binary(*op, l, r)
+            }
+        })
+    }
+}
+
+/// `a + b` if the `f64` sum is exact and finite.
+fn exact_add(a: f64, b: f64) -> Option<f64> {
+    let (s, e) = two_sum(a, b);
+    (s.is_finite() && e == 0.0).then_some(s)
+}
+
+/// `a * b` if the `f64` product is exact and finite. Products in the subnormal range are
+/// refused: there the fused error term may itself underflow to 0.
+fn exact_mul(a: f64, b: f64) -> Option<f64> {
+    let p = a * b;
+    if !p.is_finite() {
+        return None;
+    }
+    if p == 0.0 {
+        return (a == 0.0 || b == 0.0).then_some(p);
+    }
+    if p.abs() < f64::MIN_POSITIVE * 2f64.powi(53) {
+        return None;
+    }
+    (a.mul_add(b, -p) == 0.0).then_some(p)
+}
+
+fn exact_div(a: f64, b: f64) -> Option<f64> {
+    let q = a / b;
+    if b == 0.0 || !q.is_finite() {
+        return None;
+    }
+    if q == 0.0 {
+        return (a == 0.0).then_some(q);
+    }
+    (exact_mul(q, b) == Some(a)).then_some(q)
+}
+
+fn exact_sqrt(a: f64) -> Option<f64> {
+    if a <= 0.0 {
+        // The extended square root is exactly 0 there, in every arithmetic.
+        return Some(Real::sqrt(&a));
+    }
+    let r = a.sqrt();
+    (exact_mul(r, r) == Some(a)).then_some(r)
+}
+
+fn exact_powi(c: f64, n: i32) -> Option<f64> {
+    if n == 0 {
+        return Some(1.0);
+    }
+    let mut p = c;
+    for _ in 1..n.unsigned_abs() {
+        p = exact_mul(p, c)?;
+    }
+    if n < 0 {
+        exact_div(1.0, p)
+    } else {
+        Some(p)
+    }
+}
+
+fn fold_unary(op: Op, c: f64) -> Option<f64> {
+    match op {
+        Op::Sqrt => exact_sqrt(c),
+        Op::Abs => Some(c.abs()),
+        Op::Exp if c == 0.0 => Some(1.0),
+        Op::Ln if c == 1.0 => Some(0.0),
+        Op::Sin if c == 0.0 => Some(c),
+        Op::Cos if c == 0.0 => Some(1.0),
+        _ => None,
+    }
+}
+
+fn fold_bin(op: BinOp, a: f64, b: f64) -> Option<f64> {
+    let norm = || exact_sqrt(exact_add(exact_mul(a, a)?, exact_mul(b, b)?)?);
+    match op {
+        BinOp::Add => exact_add(a, b),
+        BinOp::Sub => exact_add(a, -b),
+        BinOp::Mul => exact_mul(a, b),
+        BinOp::Div => exact_div(a, b),
+        BinOp::Intersect => exact_add(exact_add(a, b)?, -norm()?),
+        BinOp::Union => exact_add(exact_add(a, b)?, norm()?),
+        BinOp::Subtract => exact_add(exact_add(a, -b)?, -norm()?),
+    }
+}
+
+thread_local! {
+    /// One register file per value type and thread, reused across evaluations.
+    static REGISTERS: RefCell<Vec<Box<dyn Any>>> = const { RefCell::new(Vec::new()) };
+}
+
+/// Runs `f` with an empty register file for `R`, reusing this thread's buffer when it
+/// is free (a nested or late evaluation just allocates a fresh one).
+fn with_registers<R: 'static, T>(f: impl FnOnce(&mut Vec<Option<R>>) -> T) -> T {
+    let mut f = Some(f);
+    let pooled = REGISTERS.try_with(|pool| {
+        let Ok(mut pool) = pool.try_borrow_mut() else {
+            return None;
+        };
+        let k = match pool.iter().position(|b| b.is::<Vec<Option<R>>>()) {
+            Some(k) => k,
+            None => {
+                pool.push(Box::new(Vec::<Option<R>>::new()));
+                pool.len() - 1
+            }
+        };
+        let regs = pool[k].downcast_mut::<Vec<Option<R>>>()?;
+        let out = (f.take()?)(regs);
+        regs.clear();
+        Some(out)
+    });
+    match (pooled, f) {
+        (Ok(Some(out)), _) => out,
+        (_, Some(f)) => f(&mut Vec::new()),
+        // `f` ran but its result was lost: impossible, `out` is always `Some` then.
+        (_, None) => unreachable!("register pool returned no result after running"),
+    }
+}
+
+/// Reads operand `k` of `i`: moved out on its last read, cloned otherwise.
+#[inline(always)]
+fn read<R: Clone>(regs: &mut [Option<R>], i: &Instr, k: u8) -> R {
+    let r = if k == 0 { i.a } else { i.b } as usize;
+    let slot = &mut regs[r];
+    let v = if i.last & (1 << k) != 0 { slot.take() } else { slot.clone() };
+    // The compiler only emits operands defined earlier and read before their last use.
+    v.expect("tape invariant: operand register holds a value")
+}
+
+impl Tape {
+    /// Compiles a syntax tree.
+    pub fn compile(p: &Program) -> Result<Tape, CompileError> {
+        let mut b = Builder { ins: Vec::new(), memo: HashMap::new() };
+        let mut binds = Vec::with_capacity(p.bindings.len());
+        for bind in &p.bindings {
+            let v = b.expr(&bind.expr, &binds)?;
+            binds.push(v);
+        }
+        let out = b.expr(&p.body, &binds)?;
+        let out = b.reg(out);
+        Ok(Tape { ins: finish(b.ins, out) })
+    }
+
+    /// Number of instructions.
+    pub fn len(&self) -> usize {
+        self.ins.len()
+    }
+
+    /// Always false: a tape computes at least one value.
+    pub fn is_empty(&self) -> bool {
+        self.ins.is_empty()
+    }
+
+    /// The instructions; the last one's register is the result.
+    pub fn instructions(&self) -> &[Instr] {
+        &self.ins
+    }
+
+    /// Evaluates the formula at `(x, y, z)` in the arithmetic `R`.
+    pub fn eval<R: Real>(&self, x: R, y: R, z: R) -> R {
+        with_registers(|regs: &mut Vec<Option<R>>| self.run(regs, x, y, z))
+    }
+
+    fn run<R: Real>(&self, regs: &mut Vec<Option<R>>, x: R, y: R, z: R) -> R {
+        regs.clear();
+        regs.reserve(self.ins.len());
+        for i in &self.ins {
+            let v = match i.op {
+                Op::X => x.clone(),
+                Op::Y => y.clone(),
+                Op::Z => z.clone(),
+                Op::Const => R::constant(i.c),
+                Op::Neg => -read(regs, i, 0),
+                Op::Sqr => read(regs, i, 0).sqr(),
+                Op::Powi => read(regs, i, 0).powi(i.n),
+                Op::Sqrt => read(regs, i, 0).sqrt(),
+                Op::Exp => read(regs, i, 0).exp(),
+                Op::Ln => read(regs, i, 0).ln(),
+                Op::Sin => read(regs, i, 0).sin(),
+                Op::Cos => read(regs, i, 0).cos(),
+                Op::Abs => read(regs, i, 0).abs(),
+                Op::AddC => read(regs, i, 0) + i.c,
+                Op::SubC => read(regs, i, 0) - i.c,
+                Op::RSubC => read(regs, i, 0).rsub(i.c),
+                Op::MulC => read(regs, i, 0) * i.c,
+                Op::DivC => read(regs, i, 0) / i.c,
+                Op::RDivC => read(regs, i, 0).rdiv(i.c),
+                Op::Add => read(regs, i, 0) + read(regs, i, 1),
+                Op::Sub => read(regs, i, 0) - read(regs, i, 1),
+                Op::Mul => read(regs, i, 0) * read(regs, i, 1),
+                Op::Div => read(regs, i, 0) / read(regs, i, 1),
+                Op::Min => read(regs, i, 0).min(&read(regs, i, 1)),
+                Op::Max => read(regs, i, 0).max(&read(regs, i, 1)),
+                Op::Intersect => rfunc::intersect(read(regs, i, 0), read(regs, i, 1)),
+                Op::Union => rfunc::union(read(regs, i, 0), read(regs, i, 1)),
+                Op::Subtract => rfunc::subtract(read(regs, i, 0), read(regs, i, 1)),
+            };
+            regs.push(Some(v));
+        }
+        let out = regs.pop().flatten();
+        out.expect("tape invariant: a tape has at least one instruction")
+    }
+
+    /// The tape as a formula: registers read more than once become bindings `tN = ...;`.
+    /// Parsing it gives a tape with the same values (bit for bit at points).
+    pub fn to_program(&self) -> Program {
+        let mut uses = vec![0usize; self.ins.len()];
+        for i in &self.ins {
+            for &k in i.operands() {
+                uses[i.reg(k) as usize] += 1;
+            }
+        }
+        let mut bindings = Vec::new();
+        let mut exprs: Vec<Option<Expr>> = vec![None; self.ins.len()];
+        let get = |exprs: &mut Vec<Option<Expr>>, r: u32| -> Expr {
+            let r = r as usize;
+            if uses[r] > 1 || matches!(self.ins[r].op, Op::X | Op::Y | Op::Z | Op::Const) {
+                exprs[r].clone().unwrap_or(Expr::Num(f64::NAN))
+            } else {
+                exprs[r].take().unwrap_or(Expr::Num(f64::NAN))
+            }
+        };
+        let last = self.ins.len().saturating_sub(1);
+        for (r, i) in self.ins.iter().enumerate() {
+            let a = if i.op.arity() >= 1 { get(&mut exprs, i.a) } else { Expr::Num(0.0) };
+            let b = if i.op.arity() == 2 { get(&mut exprs, i.b) } else { Expr::Num(0.0) };
+            let call = |f: Func, args: Vec<Expr>| Expr::Call(f, args);
+            let e = match i.op {
+                Op::X => Expr::Var(Var::X),
+                Op::Y => Expr::Var(Var::Y),
+                Op::Z => Expr::Var(Var::Z),
+                Op::Const => Expr::Num(i.c),
+                Op::Neg => Expr::neg(a),
+                Op::Sqr => Expr::pow(a, 2),
+                Op::Powi => Expr::pow(a, i.n),
+                Op::Sqrt => call(Func::Sqrt, vec![a]),
+                Op::Exp => call(Func::Exp, vec![a]),
+                Op::Ln => call(Func::Ln, vec![a]),
+                Op::Sin => call(Func::Sin, vec![a]),
+                Op::Cos => call(Func::Cos, vec![a]),
+                Op::Abs => call(Func::Abs, vec![a]),
+                Op::AddC => Expr::bin(BinOp::Add, a, Expr::Num(i.c)),
+                Op::SubC => Expr::bin(BinOp::Sub, a, Expr::Num(i.c)),
+                Op::RSubC => Expr::bin(BinOp::Sub, Expr::Num(i.c), a),
+                Op::MulC => Expr::bin(BinOp::Mul, a, Expr::Num(i.c)),
+                Op::DivC => Expr::bin(BinOp::Div, a, Expr::Num(i.c)),
+                Op::RDivC => Expr::bin(BinOp::Div, Expr::Num(i.c), a),
+                Op::Add => Expr::bin(BinOp::Add, a, b),
+                Op::Sub => Expr::bin(BinOp::Sub, a, b),
+                Op::Mul => Expr::bin(BinOp::Mul, a, b),
+                Op::Div => Expr::bin(BinOp::Div, a, b),
+                Op::Min => call(Func::Min, vec![a, b]),
+                Op::Max => call(Func::Max, vec![a, b]),
+                Op::Intersect => Expr::bin(BinOp::Intersect, a, b),
+                Op::Union => Expr::bin(BinOp::Union, a, b),
+                Op::Subtract => Expr::bin(BinOp::Subtract, a, b),
+            };
+            let e = if uses[r] > 1 && r != last && !matches!(e, Expr::Var(_) | Expr::Num(_)) {
+                bindings.push(super::ast::Binding { name: format!("t{r}"), expr: e });
+                Expr::Ref(bindings.len() - 1)
+            } else {
+                e
+            };
+            exprs[r] = Some(e);
+        }
+        let body = exprs.get_mut(last).and_then(Option::take).unwrap_or(Expr::Num(f64::NAN));
+        Program { bindings, body }
+    }
+
+    /// The formula text of [`Tape::to_program`].
+    pub fn to_formula(&self) -> String {
+        self.to_program().to_string()
+    }
+}
+
+/// Drops instructions the result does not depend on, renumbers, and marks last reads.
+fn finish(ins: Vec<Instr>, out: u32) -> Vec<Instr> {
+    let out = out as usize;
+    let mut live = vec![false; ins.len()];
+    live[out] = true;
+    for r in (0..=out).rev() {
+        if live[r] {
+            let i = ins[r];
+            for &k in i.operands() {
+                live[i.reg(k) as usize] = true;
+            }
+        }
+    }
+    let mut new_index = vec![0u32; ins.len()];
+    let mut kept = Vec::new();
+    for (r, mut i) in ins.into_iter().enumerate().take(out + 1) {
+        if !live[r] {
+            continue;
+        }
+        i.a = if i.op.arity() >= 1 { new_index[i.a as usize] } else { 0 };
+        i.b = if i.op.arity() == 2 { new_index[i.b as usize] } else { 0 };
+        new_index[r] = kept.len() as u32;
+        kept.push(i);
+    }
+    // The result must be the last instruction.
+    debug_assert_eq!(new_index[out] as usize, kept.len() - 1);
+    // Last reads: walk backwards; the first read seen of a register (in reverse reading
+    // order) is its last. The result register is read after the tape.
+    let mut seen = vec![false; kept.len()];
+    if let Some(s) = seen.last_mut() {
+        *s = true;
+    }
+    for i in kept.iter_mut().rev() {
+        for &k in i.operands().iter().rev() {
+            let r = i.reg(k as usize) as usize;
+            if !seen[r] {
+                seen[r] = true;
+                i.last |= 1 << k;
+            }
+        }
+    }
+    kept
+}
+
+impl fmt::Display for Tape {
+    /// One instruction per line, `rN = op operands`; `!` marks a moved (last) read.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        for (r, i) in self.ins.iter().enumerate() {
+            writeln!(f, "r{r} = {i}")?;
+        }
+        Ok(())
+    }
+}
