@@ -25,7 +25,7 @@
 //! ```
 
 use arith_core::approx::{self, Approx};
-use arith_core::round::{add_down, add_up, err, mul_down, mul_up, sub_up, two_sum};
+use arith_core::round::{err, two_prod, two_sum};
 use arith_core::{Arithmetic, Linear, Range, Real};
 use core::cell::Cell;
 use core::ops::{Add, Div, Mul, Neg, Sub};
@@ -85,23 +85,60 @@ impl Arithmetic for AaArith {
     type Cell = Aa;
 }
 
-/// Adds the error bound `e >= 0` (NaN meaning "unbounded") to the accumulator `acc`,
-/// rounding up; exact zeros leave it untouched so exact operations add no symbol.
+/// An upper bound of `a + b`, equal to `fl(a + b)` when that is exact or rounded up
+/// (checked with TwoSum), so exact sums stay exact. Overflow and NaN give `+inf`.
 #[inline]
-fn acc_err(acc: &mut f64, e: f64) {
-    if e != 0.0 {
-        *acc = add_up(*acc, e.abs());
+fn sum_up(a: f64, b: f64) -> f64 {
+    let (s, t) = two_sum(a, b);
+    if t > 0.0 {
+        s.next_up()
+    } else if s.is_nan() {
+        f64::INFINITY
+    } else {
+        s
     }
 }
 
-/// Rounding-error bound of the product `r = fl(a * b)`: zero when `b` is `±1`, `0` or a
-/// power of two and `r` is normal (exact scaling), else [`err`].
+/// A lower bound of `a + b`, exact when the sum is (see [`sum_up`]).
 #[inline]
-fn mul_err(r: f64, b_exact_scale: bool) -> f64 {
-    if b_exact_scale && (r == 0.0 || r.abs() >= f64::MIN_POSITIVE) && r.is_finite() {
-        0.0
+fn sum_down(a: f64, b: f64) -> f64 {
+    -sum_up(-a, -b)
+}
+
+/// Adds `|e|` (NaN meaning "unbounded") to the error accumulator `acc`, rounding up;
+/// exact zeros leave it untouched so exact operations add no symbol.
+#[inline]
+fn acc_err(acc: &mut f64, e: f64) {
+    if e != 0.0 {
+        *acc = sum_up(*acc, e.abs());
+    }
+}
+
+/// Below this magnitude the FMA residual of a product may itself be rounded
+/// (underflow), so [`prod`] falls back to the [`err`] bound there.
+const TINY_PRODUCT: f64 = 1.0e-290;
+
+/// `fl(a * b)` and a bound on its rounding error: the exact FMA residual where that is
+/// representable (zero for exact products such as scaling by small integers), else
+/// [`err`] (also `+inf` on overflow).
+#[inline]
+fn prod(a: f64, b: f64) -> (f64, f64) {
+    let (p, pe) = two_prod(a, b);
+    if p.is_finite() && (p.abs() >= TINY_PRODUCT || p == 0.0 && (a == 0.0 || b == 0.0)) {
+        (p, pe.abs())
     } else {
-        err(r)
+        (p, err(p))
+    }
+}
+
+/// An upper bound of `a * b` for `a, b >= 0`, exact when the product is.
+#[inline]
+fn mul_up_exact(a: f64, b: f64) -> f64 {
+    let (p, pe) = prod(a, b);
+    if pe == 0.0 {
+        p
+    } else {
+        sum_up(p, pe)
     }
 }
 
@@ -154,8 +191,7 @@ impl Aa {
         // Halving each bound is exact (barring subnormals, covered by the rounded-up
         // radius below), and cannot overflow like `lo + hi`.
         let mid = 0.5 * lo + 0.5 * hi;
-        let rad = f64::max(sub_up(hi, mid), sub_up(mid, lo));
-        let rad = if lo == hi && mid == lo { 0.0 } else { rad };
+        let rad = f64::max(sum_up(hi, -mid), sum_up(mid, -lo));
         let mut terms = Vec::new();
         if rad != 0.0 {
             terms.push((sym, rad));
@@ -236,13 +272,14 @@ impl Aa {
         if c == 1.0 {
             return self;
         }
-        let exact = is_exact_scale(c);
         let mut e = 0.0;
-        self.x0 *= c;
-        acc_err(&mut e, mul_err(self.x0, exact));
+        let (p, pe) = prod(self.x0, c);
+        self.x0 = p;
+        acc_err(&mut e, pe);
         for t in &mut self.terms {
-            t.1 *= c;
-            acc_err(&mut e, mul_err(t.1, exact));
+            let (p, pe) = prod(t.1, c);
+            t.1 = p;
+            acc_err(&mut e, pe);
         }
         // Underflow to zero leaves a zero coefficient; its error is already counted.
         self.terms.retain(|t| t.1 != 0.0);
@@ -280,16 +317,16 @@ impl Aa {
             self.terms.clear();
             self.x0 = a.zeta;
         } else {
-            let exact = is_exact_scale(a.alpha);
-            let p = self.x0 * a.alpha;
-            acc_err(&mut e, mul_err(p, exact));
+            let (p, pe) = prod(self.x0, a.alpha);
+            acc_err(&mut e, pe);
             let (c, ce) = two_sum(p, a.zeta);
             acc_err(&mut e, ce);
             self.x0 = c;
             if a.alpha != 1.0 {
                 for t in &mut self.terms {
-                    t.1 *= a.alpha;
-                    acc_err(&mut e, mul_err(t.1, exact));
+                    let (p, pe) = prod(t.1, a.alpha);
+                    t.1 = p;
+                    acc_err(&mut e, pe);
                 }
                 self.terms.retain(|t| t.1 != 0.0);
             }
@@ -324,9 +361,9 @@ impl Aa {
         }
         let (x0, y0) = (self.x0, other.x0);
         let (rx, ry) = (self.radius(), other.radius());
-        let mut e = mul_up(rx, ry);
-        let p0 = x0 * y0;
-        acc_err(&mut e, err(p0));
+        let mut e = mul_up_exact(rx, ry);
+        let (p0, pe) = prod(x0, y0);
+        acc_err(&mut e, pe);
         let (a, b) = (&self.terms, &other.terms);
         let mut t = Vec::with_capacity(a.len() + b.len() + 1);
         let (mut i, mut j) = (0, 0);
@@ -335,19 +372,22 @@ impl Aa {
             let sym;
             if j == b.len() || (i < a.len() && a[i].0 < b[j].0) {
                 sym = a[i].0;
-                c = y0 * a[i].1;
-                acc_err(&mut e, err(c));
+                let (p, pe) = prod(y0, a[i].1);
+                acc_err(&mut e, pe);
+                c = p;
                 i += 1;
             } else if i == a.len() || b[j].0 < a[i].0 {
                 sym = b[j].0;
-                c = x0 * b[j].1;
-                acc_err(&mut e, err(c));
+                let (p, pe) = prod(x0, b[j].1);
+                acc_err(&mut e, pe);
+                c = p;
                 j += 1;
             } else {
                 sym = a[i].0;
-                let (p, q) = (y0 * a[i].1, x0 * b[j].1);
-                acc_err(&mut e, err(p));
-                acc_err(&mut e, err(q));
+                let (p, pe) = prod(y0, a[i].1);
+                let (q, qe) = prod(x0, b[j].1);
+                acc_err(&mut e, pe);
+                acc_err(&mut e, qe);
                 let (s, se) = two_sum(p, q);
                 acc_err(&mut e, se);
                 c = s;
@@ -370,16 +410,9 @@ impl Aa {
         }
         let x0 = self.x0;
         let mut e = 0.0;
-        let p = x0 * x0;
-        acc_err(&mut e, err(p));
+        let (p, pe) = prod(x0, x0);
+        acc_err(&mut e, pe);
         if self.terms.is_empty() {
-            // A constant: exactness check via the error-free product.
-            let (p, pe) = arith_core::round::two_prod(x0, x0);
-            let mut e = 0.0;
-            acc_err(&mut e, pe);
-            if pe != 0.0 || p.abs() < f64::MIN_POSITIVE {
-                acc_err(&mut e, err(p));
-            }
             return Aa {
                 x0: p,
                 terms: Vec::new(),
@@ -387,17 +420,18 @@ impl Aa {
             .finish(e);
         }
         let r = self.radius();
-        let r2 = mul_up(r, r);
-        let s = 0.5 * r2;
-        acc_err(&mut e, f64::max(s, sub_up(r2, s)));
-        let (c, ce) = two_sum(p, s);
-        acc_err(&mut e, ce);
+        let r2 = mul_up_exact(r, r);
+        // The centre moves by exactly h + t = c - p (TwoSum), so the quadratic part minus
+        // the shift lies in [-(h + t), r2 - (h + t)]: no rounding error of its own.
+        let h = 0.5 * r2;
+        let (c, t) = two_sum(p, h);
+        acc_err(&mut e, f64::max(sum_up(h, t), sum_up(sum_up(r2, -h), -t)));
         let t = 2.0 * x0;
         let mut terms = Vec::with_capacity(self.terms.len() + 1);
         if t != 0.0 {
             for &(sym, xi) in &self.terms {
-                let ci = t * xi;
-                acc_err(&mut e, err(ci));
+                let (ci, cie) = prod(t, xi);
+                acc_err(&mut e, cie);
                 if ci != 0.0 {
                     terms.push((sym, ci));
                 }
@@ -435,7 +469,11 @@ impl Add for Aa {
 impl Sub for Aa {
     type Output = Aa;
     fn sub(self, rhs: Aa) -> Aa {
-        self.add_signed(&rhs, -1.0)
+        if rhs.terms.len() > self.terms.len() {
+            (-rhs).add_signed(&self, 1.0)
+        } else {
+            self.add_signed(&rhs, -1.0)
+        }
     }
 }
 
@@ -606,13 +644,9 @@ impl Range for Aa {
         if self.is_entire() {
             return (f64::NEG_INFINITY, f64::INFINITY);
         }
+        // x0 ∓ r can overflow to ±inf, never NaN (r is finite or +inf, x0 finite).
         let r = self.radius();
-        if r == 0.0 {
-            (self.x0, self.x0)
-        } else {
-            // x0 ∓ r can overflow to ±inf, never NaN (r is finite or +inf, x0 finite).
-            (arith_core::round::sub_down(self.x0, r), add_up(self.x0, r))
-        }
+        (sum_down(self.x0, -r), sum_up(self.x0, r))
     }
     fn linear_part(&self) -> Option<Linear> {
         if self.is_entire() {
@@ -636,14 +670,20 @@ impl Range for Aa {
         let fixed = eps.len().min(INPUTS) as u64;
         for &(sym, c) in &self.terms {
             if sym < fixed {
-                let v = eps[sym as usize];
-                lo = add_down(lo, mul_down(c, v));
-                hi = add_up(hi, mul_up(c, v));
+                let (p, pe) = prod(c, eps[sym as usize]);
+                lo = sum_down(lo, p);
+                hi = sum_up(hi, p);
+                if pe != 0.0 {
+                    lo = sum_down(lo, -pe);
+                    hi = sum_up(hi, pe);
+                }
             } else {
-                lo = arith_core::round::sub_down(lo, c.abs());
-                hi = add_up(hi, c.abs());
+                lo = sum_down(lo, -c.abs());
+                hi = sum_up(hi, c.abs());
             }
         }
-        (lo, hi)
+        // Both are sound enclosures, so their intersection is too.
+        let (blo, bhi) = self.bounds();
+        (lo.max(blo), hi.min(bhi))
     }
 }
