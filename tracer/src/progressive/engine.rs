@@ -1,0 +1,780 @@
+//! The progressive refinement engine (Gamito and Maddock 2007, Section 3): cone tracing,
+//! the sample queue, prime-factor subdivision, regions of interest.
+
+use crate::camera::Camera;
+use crate::lipschitz::{box_distance, clip_to_box, overshoot_trace, sphere_trace, Bounded};
+use crate::shade::{self, Light, Material, BACKGROUND};
+use crate::shape::{Aabb, Shape, View};
+use glam::DVec3;
+use std::collections::VecDeque;
+use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::Arc;
+
+/// How a child cone's starting distance is chosen.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum ChildStart {
+    /// Eq. (8): `t0 = t_M / (d_child . d_parent)`, the plane orthogonal to the parent axis
+    /// at `t_M`. The parent cleared its cone between two such planes; ancestors cleared
+    /// theirs between planes orthogonal to *their* axes, so between tilted planes a thin
+    /// wedge of a child cone can be left unchecked (second order in the aperture).
+    Paper,
+    /// Our guaranteed variant (default): every sample carries a radius `R` such that each
+    /// ray of its pyramid is clear of the surface closer than `R` to the eye. A cone
+    /// starts at `t0 = R cos α` (all its points of axial distance below `t0` are closer
+    /// than `R`), clears the axial range `[t0, t_M]`, and its children inherit
+    /// `R' = max(R, t_M)` (a point of the cone closer than `t_M` either has axial
+    /// distance in `[t0, t_M]` or is closer than `R`). Terminal rays start at `R`.
+    #[default]
+    Radial,
+}
+
+/// Engine options.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Options {
+    /// Lipschitz bound of `f` over the domain.
+    pub lambda: f64,
+    /// Hit precision: a ray stops where the unbounding radius `|f| / λ` is below it.
+    pub eps: f64,
+    /// Overshooting factor of the terminal ray caster.
+    pub overshoot: f64,
+    /// Anti-aliasing: samples are subdivided to `1/aa` of a pixel (box filter).
+    pub aa: u32,
+    /// Child cone start rule.
+    pub child_start: ChildStart,
+}
+
+impl Options {
+    /// Defaults for a bound `lambda`: precision `1e-4`, overshoot 1.46, no anti-aliasing.
+    pub fn new(lambda: f64) -> Self {
+        Options {
+            lambda,
+            eps: 1e-4,
+            overshoot: crate::lipschitz::DEFAULT_OVERSHOOT,
+            aa: 1,
+            child_start: ChildStart::Radial,
+        }
+    }
+}
+
+/// How far cone tracing got (Section 3.1, Fig. 3).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ConeEnd {
+    /// Condition (4) fails at `t0`: the sample must be subdivided without tracing.
+    Blocked,
+    /// The cone is clear of the surface up to axial distance `t_M`.
+    Reached(f64),
+    /// The cone is clear up to `t_inf`: no surface in it.
+    Escaped,
+}
+
+/// Cone tracing exactly as Fig. 3, with the unbounding radius `ε_i` of
+/// [`Bounded::radius`], condition (4) `ε_i > t_i tan α`, the offsets (5) and condition
+/// (6) `t_{i+1} - t_i < Δt⁻_{i+1} + Δt⁺_i`, which must *hold* for the step to be taken
+/// (the text's reading; the figure prints the test with the opposite outcome).
+pub fn trace_cone<S: Shape + ?Sized>(
+    b: &Bounded<S>,
+    o: DVec3,
+    d: DVec3,
+    tan_a: f64,
+    t0: f64,
+    t_inf: f64,
+    evals: &mut u64,
+) -> ConeEnd {
+    let cos2 = 1.0 / (1.0 + tan_a * tan_a);
+    let sin2 = tan_a * tan_a * cos2;
+    // δ of eq. (5c), well defined under condition (4).
+    let delta = |e: f64, t: f64| (e * e * cos2 - t * t * sin2).max(0.0).sqrt();
+    let mut ti = t0;
+    let mut ei = b.radius(o + d * ti, evals);
+    if !(ei > ti * tan_a) {
+        return ConeEnd::Blocked;
+    }
+    let mut dplus = delta(ei, ti) - ti * sin2;
+    let mut guard = 0u64;
+    while ti < t_inf {
+        guard += 1;
+        let tn = ti + ei;
+        let en = b.radius(o + d * tn, evals);
+        let stop = if !(en > tn * tan_a) || guard > 10_000_000 {
+            true // condition (4)
+        } else {
+            let dn = delta(en, tn);
+            let (dminus_n, dplus_n) = (dn + tn * sin2, dn - tn * sin2);
+            if tn - ti < dminus_n + dplus {
+                ti = tn;
+                ei = en;
+                dplus = dplus_n;
+                false
+            } else {
+                true // condition (6) does not hold
+            }
+        };
+        if stop {
+            let tm = ti + dplus;
+            return if tm >= t_inf {
+                ConeEnd::Escaped
+            } else {
+                ConeEnd::Reached(tm)
+            };
+        }
+    }
+    ConeEnd::Escaped
+}
+
+/// The image buffer shared by the refinement and the display threads (Section 3.5):
+/// `0x00RRGGBB` per pixel in relaxed atomics, so a torn frame is possible (and erased at
+/// the next refresh) but there are no locks and no data races.
+pub struct SharedImage {
+    pub width: u32,
+    pub height: u32,
+    pixels: Vec<AtomicU32>,
+}
+
+impl SharedImage {
+    fn new(width: u32, height: u32, rgb: [u8; 3]) -> Self {
+        let c = pack(rgb);
+        SharedImage {
+            width,
+            height,
+            pixels: (0..width as usize * height as usize)
+                .map(|_| AtomicU32::new(c))
+                .collect(),
+        }
+    }
+    /// Pixel `(i, j)` as `0x00RRGGBB`.
+    pub fn get(&self, i: u32, j: u32) -> u32 {
+        self.pixels[(j * self.width + i) as usize].load(Ordering::Relaxed)
+    }
+    fn set(&self, i: u32, j: u32, c: u32) {
+        self.pixels[(j * self.width + i) as usize].store(c, Ordering::Relaxed);
+    }
+    /// A copy as `0x00RRGGBB` words (what minifb displays).
+    pub fn snapshot(&self) -> Vec<u32> {
+        self.pixels
+            .iter()
+            .map(|p| p.load(Ordering::Relaxed))
+            .collect()
+    }
+    /// A copy as an RGB image.
+    pub fn to_rgb(&self) -> image::RgbImage {
+        image::RgbImage::from_fn(self.width, self.height, |i, j| {
+            image::Rgb(unpack(self.get(i, j)))
+        })
+    }
+}
+
+fn pack(c: [u8; 3]) -> u32 {
+    (c[0] as u32) << 16 | (c[1] as u32) << 8 | c[2] as u32
+}
+fn unpack(c: u32) -> [u8; 3] {
+    [(c >> 16) as u8, (c >> 8) as u8, c as u8]
+}
+
+/// Prime factors of `n`, largest first.
+pub fn prime_factors_desc(mut n: u32) -> Vec<u32> {
+    let mut f = Vec::new();
+    let mut p = 2;
+    while p * p <= n {
+        while n % p == 0 {
+            f.push(p);
+            n /= p;
+        }
+        p += 1;
+    }
+    if n > 1 {
+        f.push(n);
+    }
+    f.reverse();
+    f
+}
+
+fn gcd(a: u32, b: u32) -> u32 {
+    if b == 0 {
+        a
+    } else {
+        gcd(b, a % b)
+    }
+}
+
+/// The subdivision plan of eq. (7): `u x v` top-level square samples of `size` pixels,
+/// then a `p x p` split per level, `p` the prime factors of `gcd(w, h)`, largest first.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Plan {
+    pub u: u32,
+    pub v: u32,
+    pub size: u32,
+    pub splits: Vec<u32>,
+}
+
+impl Plan {
+    /// The plan for a `w x h` image.
+    pub fn new(w: u32, h: u32) -> Plan {
+        let g = gcd(w, h);
+        Plan {
+            u: w / g,
+            v: h / g,
+            size: g,
+            splits: prime_factors_desc(g),
+        }
+    }
+}
+
+/// A rectangle of pixels `[x0, x1) x [y0, y1)`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Rect {
+    pub x0: u32,
+    pub y0: u32,
+    pub x1: u32,
+    pub y1: u32,
+}
+
+impl Rect {
+    /// The rectangle spanned by two corners (in any order), `x1`/`y1` inclusive.
+    pub fn from_corners(a: (u32, u32), b: (u32, u32)) -> Rect {
+        Rect {
+            x0: a.0.min(b.0),
+            y0: a.1.min(b.1),
+            x1: a.0.max(b.0) + 1,
+            y1: a.1.max(b.1) + 1,
+        }
+    }
+    fn scaled(&self, k: u32) -> Rect {
+        Rect {
+            x0: self.x0 * k,
+            y0: self.y0 * k,
+            x1: self.x1 * k,
+            y1: self.y1 * k,
+        }
+    }
+    fn intersects(&self, s: &Sample) -> bool {
+        s.x < self.x1 && s.x + s.n > self.x0 && s.y < self.y1 && s.y + s.n > self.y0
+    }
+}
+
+/// A square sample of `n x n` (virtual) pixels at `(x, y)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Sample {
+    x: u32,
+    y: u32,
+    n: u32,
+    /// Number of splits applied since the top level.
+    level: usize,
+    /// [`ChildStart::Radial`]: the clear radius `R`; [`ChildStart::Paper`]: the parent's `t_M`.
+    start: f64,
+    /// [`ChildStart::Paper`]: the parent's axis (the sample's own for top-level samples).
+    parent_dir: DVec3,
+    top: bool,
+}
+
+/// Counters.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Stats {
+    /// Samples processed (the paper's "iterations").
+    pub iterations: u64,
+    /// Point evaluations of `f` by cone tracing and ray casting.
+    pub evals: u64,
+    /// Point evaluations of `f` for normals (6 per shaded sample).
+    pub shading_evals: u64,
+}
+
+/// What one [`Engine::step`] did.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Step {
+    /// The queues are empty: the image is final.
+    Done,
+    /// One sample was processed. `level_started`: the first sample of a deeper level
+    /// (from the primary queue) was taken, i.e. the previous level is complete.
+    /// `roi_finished`: the region of interest became fully refined.
+    Processed {
+        level_started: Option<usize>,
+        roi_finished: bool,
+    },
+}
+
+/// The progressive refinement renderer for one shape and image.
+pub struct Engine<S: Shape> {
+    shape: S,
+    bounded_domain: Aabb,
+    opts: Options,
+    cam: Camera,
+    light: Light,
+    material: Material,
+    width: u32,
+    height: u32,
+    /// Virtual (anti-aliasing) resolution.
+    vw: u32,
+    vh: u32,
+    plan: Plan,
+    queue: VecDeque<Sample>,
+    roi_queue: VecDeque<Sample>,
+    roi: Option<Rect>,
+    /// Clear radius of every ray from the eye: the distance to the domain.
+    r_near: f64,
+    /// Farthest distance from the eye to the domain.
+    t_far: f64,
+    vcolour: Vec<[u8; 3]>,
+    depth: Vec<f64>,
+    done: Vec<bool>,
+    image: Arc<SharedImage>,
+    stats: Stats,
+    primary_level: usize,
+}
+
+impl<S: Shape> Engine<S> {
+    /// An engine rendering `shape` (on `domain`, seen from `view`) at `width x height`.
+    pub fn new(
+        shape: S,
+        domain: Aabb,
+        view: View,
+        width: u32,
+        height: u32,
+        opts: Options,
+    ) -> Result<Self, String> {
+        if !(opts.lambda.is_finite() && opts.lambda > 0.0) {
+            return Err(format!(
+                "the Lipschitz bound must be positive and finite, got {}",
+                opts.lambda
+            ));
+        }
+        if !(opts.eps.is_finite() && opts.eps > 0.0) {
+            return Err(format!("the precision must be positive, got {}", opts.eps));
+        }
+        if !(opts.overshoot >= 1.0 && opts.overshoot < 2.0) {
+            return Err(format!(
+                "the overshooting factor must be in [1, 2), got {}",
+                opts.overshoot
+            ));
+        }
+        if opts.aa == 0 || opts.aa > 16 {
+            return Err(format!("--aa must be in 1..=16, got {}", opts.aa));
+        }
+        if width == 0 || height == 0 || width > 16384 || height > 16384 {
+            return Err(format!("image size {width}x{height} is out of range"));
+        }
+        let (vw, vh) = (width * opts.aa, height * opts.aa);
+        let cam = Camera::try_new(view, vw, vh)?;
+        let plan = Plan::new(vw, vh);
+        let r_near = box_distance(cam.eye, &domain);
+        let mut t_far = 0.0f64;
+        for c in 0..8 {
+            let p = DVec3::new(
+                if c & 1 == 0 {
+                    domain.min.x
+                } else {
+                    domain.max.x
+                },
+                if c & 2 == 0 {
+                    domain.min.y
+                } else {
+                    domain.max.y
+                },
+                if c & 4 == 0 {
+                    domain.min.z
+                } else {
+                    domain.max.z
+                },
+            );
+            t_far = t_far.max((p - cam.eye).length());
+        }
+        let t_far = t_far * (1.0 + 1e-12);
+        let mut queue = VecDeque::new();
+        for j in 0..plan.v {
+            for i in 0..plan.u {
+                queue.push_back(Sample {
+                    x: i * plan.size,
+                    y: j * plan.size,
+                    n: plan.size,
+                    level: 0,
+                    start: r_near,
+                    parent_dir: DVec3::ZERO,
+                    top: true,
+                });
+            }
+        }
+        let n = vw as usize * vh as usize;
+        Ok(Engine {
+            light: Light::for_camera(&cam),
+            material: Material::default(),
+            shape,
+            bounded_domain: domain,
+            opts,
+            cam,
+            width,
+            height,
+            vw,
+            vh,
+            plan,
+            queue,
+            roi_queue: VecDeque::new(),
+            roi: None,
+            r_near,
+            t_far,
+            vcolour: vec![BACKGROUND; n],
+            depth: vec![f64::NAN; n],
+            done: vec![false; n],
+            image: Arc::new(SharedImage::new(width, height, BACKGROUND)),
+            stats: Stats::default(),
+            primary_level: 0,
+        })
+    }
+
+    /// The subdivision plan (at the anti-aliasing resolution).
+    pub fn plan(&self) -> &Plan {
+        &self.plan
+    }
+    /// The shared image buffer (at the output resolution).
+    pub fn image(&self) -> Arc<SharedImage> {
+        Arc::clone(&self.image)
+    }
+    /// Counters so far.
+    pub fn stats(&self) -> Stats {
+        self.stats
+    }
+    /// Whether every sample is processed.
+    pub fn is_done(&self) -> bool {
+        self.queue.is_empty() && self.roi_queue.is_empty()
+    }
+    /// Samples waiting in the primary and the secondary (ROI) queue.
+    pub fn queue_lens(&self) -> (usize, usize) {
+        (self.queue.len(), self.roi_queue.len())
+    }
+    /// The active region of interest.
+    pub fn roi(&self) -> Option<Rect> {
+        self.roi
+    }
+    /// Depth of each (virtual) pixel: the hit's ray parameter, `+inf` for a miss, NaN
+    /// while not final. Row-major at `aa` times the output resolution.
+    pub fn depth(&self) -> &[f64] {
+        &self.depth
+    }
+    /// Whether output pixel `(i, j)` has its final colour.
+    pub fn pixel_done(&self, i: u32, j: u32) -> bool {
+        let a = self.opts.aa;
+        (0..a).all(|dy| (0..a).all(|dx| self.done[((j * a + dy) * self.vw + i * a + dx) as usize]))
+    }
+
+    fn bounded(&self) -> Bounded<'_, S> {
+        Bounded {
+            shape: &self.shape,
+            domain: self.bounded_domain,
+            lambda: self.opts.lambda,
+        }
+    }
+
+    /// Sets a region of interest (output pixels): every queued sample meeting it moves to
+    /// the secondary queue, which is refined first (Section 3.4). Replaces an active one.
+    pub fn set_roi(&mut self, r: Rect) -> Result<(), String> {
+        if r.x0 >= r.x1 || r.y0 >= r.y1 || r.x1 > self.width || r.y1 > self.height {
+            return Err(format!(
+                "region {r:?} is empty or outside the {}x{} image",
+                self.width, self.height
+            ));
+        }
+        self.cancel_roi();
+        let vr = r.scaled(self.opts.aa);
+        let (inside, outside): (VecDeque<_>, VecDeque<_>) =
+            self.queue.drain(..).partition(|s| vr.intersects(s));
+        self.queue = outside;
+        self.roi_queue = inside;
+        self.roi = Some(r);
+        Ok(())
+    }
+
+    /// Cancels the region of interest: its samples return to the primary queue, merged
+    /// by level so the queue stays in breadth-first order.
+    pub fn cancel_roi(&mut self) {
+        self.roi = None;
+        if self.roi_queue.is_empty() {
+            return;
+        }
+        let a: Vec<Sample> = self.queue.drain(..).collect();
+        let b: Vec<Sample> = self.roi_queue.drain(..).collect();
+        let (mut i, mut j) = (0, 0);
+        while i < a.len() || j < b.len() {
+            if j >= b.len() || (i < a.len() && a[i].level <= b[j].level) {
+                self.queue.push_back(a[i]);
+                i += 1;
+            } else {
+                self.queue.push_back(b[j]);
+                j += 1;
+            }
+        }
+    }
+
+    /// Processes one sample.
+    pub fn step(&mut self) -> Step {
+        let mut roi_finished = false;
+        let mut level_started = None;
+        let from_roi = self.roi.is_some() && !self.roi_queue.is_empty();
+        let s = if from_roi {
+            self.roi_queue.pop_front()
+        } else {
+            if self.roi.take().is_some() {
+                roi_finished = true;
+            }
+            let s = self.queue.pop_front();
+            if let Some(s) = &s {
+                if s.level > self.primary_level {
+                    self.primary_level = s.level;
+                    level_started = Some(s.level);
+                }
+            }
+            s
+        };
+        let Some(s) = s else {
+            return Step::Done;
+        };
+        self.stats.iterations += 1;
+        if s.n == 1 {
+            self.terminal(&s);
+        } else {
+            self.cone(&s, from_roi);
+        }
+        if from_roi && self.roi_queue.is_empty() {
+            self.roi = None;
+            roi_finished = true;
+        }
+        Step::Processed {
+            level_started,
+            roi_finished,
+        }
+    }
+
+    /// Runs to completion.
+    pub fn run(&mut self) {
+        while self.step() != Step::Done {}
+    }
+
+    fn terminal(&mut self, s: &Sample) {
+        let (o, d) = self.cam.ray_at(s.x as f64 + 0.5, s.y as f64 + 0.5);
+        let mut evals = 0;
+        let hit = match clip_to_box(o, d, &self.bounded_domain) {
+            None => None,
+            Some((t_in, t_out)) => {
+                let start = match self.opts.child_start {
+                    ChildStart::Radial => s.start,
+                    ChildStart::Paper if s.top => self.r_near,
+                    ChildStart::Paper => s.start / d.dot(s.parent_dir),
+                };
+                let c = overshoot_trace(
+                    &self.bounded(),
+                    o,
+                    d,
+                    start.max(t_in),
+                    t_out,
+                    self.opts.eps,
+                    self.opts.overshoot,
+                );
+                evals = c.evals;
+                c.t
+            }
+        };
+        self.stats.evals += evals;
+        let idx = (s.y * self.vw + s.x) as usize;
+        let colour = match hit {
+            Some(t) => {
+                self.depth[idx] = t;
+                self.shade_at(o + d * t, d)
+            }
+            None => {
+                self.depth[idx] = f64::INFINITY;
+                BACKGROUND
+            }
+        };
+        self.done[idx] = true;
+        self.paint(s, colour);
+    }
+
+    fn shade_at(&mut self, p: DVec3, d: DVec3) -> [u8; 3] {
+        self.stats.shading_evals += 6;
+        let n = shade::normal(&self.shape, p, 1e-5 * (1.0 + p.length()));
+        shade::shade(n, d, &self.light, &self.material, false)
+    }
+
+    /// The aperture: eq. (3) with the bounding circle of the sample, widened where needed
+    /// to the largest angle between the axis and the sample's corner rays (off the image
+    /// centre the image plane is oblique to the axis and eq. (3) alone can miss corners).
+    fn tan_aperture(&self, s: &Sample, d: DVec3) -> f64 {
+        let c = &self.cam;
+        let p = c.raw_dir(s.x as f64 + s.n as f64 * 0.5, s.y as f64 + s.n as f64 * 0.5);
+        let dl = 2.0 * c.tan_half / c.height as f64;
+        let eps = 0.5 * std::f64::consts::SQRT_2 * s.n as f64 * dl;
+        let mut t = eps / p.length();
+        for (cx, cy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+            let q = c
+                .raw_dir((s.x + cx * s.n) as f64, (s.y + cy * s.n) as f64)
+                .normalize();
+            let cos = q.dot(d).clamp(-1.0, 1.0);
+            let sin = (1.0 - cos * cos).max(0.0).sqrt();
+            t = t.max(sin / cos);
+        }
+        // A relative margin for the rounding of the above.
+        t * (1.0 + 1e-9)
+    }
+
+    fn cone(&mut self, s: &Sample, from_roi: bool) {
+        let (o, d) = self
+            .cam
+            .ray_at(s.x as f64 + s.n as f64 * 0.5, s.y as f64 + s.n as f64 * 0.5);
+        let tan_a = self.tan_aperture(s, d);
+        let cos_a = 1.0 / (1.0 + tan_a * tan_a).sqrt();
+        let t0 = match self.opts.child_start {
+            ChildStart::Radial => s.start * cos_a,
+            ChildStart::Paper if s.top => s.start * cos_a,
+            ChildStart::Paper => s.start / d.dot(s.parent_dir),
+        };
+        let mut evals = 0;
+        let end = trace_cone(&self.bounded(), o, d, tan_a, t0, self.t_far, &mut evals);
+        self.stats.evals += evals;
+        let (start, parent_dir, top) = match end {
+            ConeEnd::Escaped => {
+                for j in s.y..s.y + s.n {
+                    for i in s.x..s.x + s.n {
+                        let k = (j * self.vw + i) as usize;
+                        self.depth[k] = f64::INFINITY;
+                        self.done[k] = true;
+                    }
+                }
+                self.paint(s, BACKGROUND);
+                return;
+            }
+            ConeEnd::Blocked => (s.start, s.parent_dir, s.top),
+            ConeEnd::Reached(tm) => {
+                let colour = self.shade_at(o + d * tm, d);
+                self.paint(s, colour);
+                match self.opts.child_start {
+                    ChildStart::Radial => (s.start.max(tm), d, false),
+                    ChildStart::Paper => (tm, d, false),
+                }
+            }
+        };
+        let p = self.plan.splits[s.level];
+        let n = s.n / p;
+        for cj in 0..p {
+            for ci in 0..p {
+                let c = Sample {
+                    x: s.x + ci * n,
+                    y: s.y + cj * n,
+                    n,
+                    level: s.level + 1,
+                    start,
+                    parent_dir,
+                    top,
+                };
+                match self.roi {
+                    Some(r) if from_roi && r.scaled(self.opts.aa).intersects(&c) => {
+                        self.roi_queue.push_back(c)
+                    }
+                    _ => self.queue.push_back(c),
+                }
+            }
+        }
+    }
+
+    /// Paints a sample with one colour, then refreshes the output pixels it covers
+    /// (box-filtered over the `aa x aa` virtual pixels of each).
+    fn paint(&mut self, s: &Sample, colour: [u8; 3]) {
+        let a = self.opts.aa;
+        if a == 1 {
+            let c = pack(colour);
+            for j in s.y..s.y + s.n {
+                for i in s.x..s.x + s.n {
+                    self.vcolour[(j * self.vw + i) as usize] = colour;
+                    self.image.set(i, j, c);
+                }
+            }
+            return;
+        }
+        for j in s.y..s.y + s.n {
+            for i in s.x..s.x + s.n {
+                self.vcolour[(j * self.vw + i) as usize] = colour;
+            }
+        }
+        for oj in s.y / a..(s.y + s.n).div_ceil(a) {
+            for oi in s.x / a..(s.x + s.n).div_ceil(a) {
+                let mut acc = [0u32; 3];
+                for dy in 0..a {
+                    for dx in 0..a {
+                        let c = self.vcolour[((oj * a + dy) * self.vw + oi * a + dx) as usize];
+                        for k in 0..3 {
+                            acc[k] += c[k] as u32;
+                        }
+                    }
+                }
+                let nn = a * a;
+                self.image
+                    .set(oi, oj, pack(acc.map(|v| ((v + nn / 2) / nn) as u8)));
+            }
+        }
+    }
+
+    /// The level of the sample the next [`Engine::step`] takes from the primary queue
+    /// (`None` while a region of interest is being refined or when done).
+    pub fn next_level(&self) -> Option<usize> {
+        if self.roi.is_some() && !self.roi_queue.is_empty() {
+            return None;
+        }
+        self.queue.front().map(|s| s.level)
+    }
+    /// The options.
+    pub fn options(&self) -> &Options {
+        &self.opts
+    }
+    /// Output size.
+    pub fn size(&self) -> (u32, u32) {
+        (self.width, self.height)
+    }
+    /// Virtual (anti-aliasing) size.
+    pub fn virtual_size(&self) -> (u32, u32) {
+        (self.vw, self.vh)
+    }
+}
+
+/// Which conventional ray caster.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Caster {
+    /// `t += |f| / λ`.
+    Standard,
+    /// Steps enlarged by this factor, with step-back.
+    Overshoot(f64),
+}
+
+/// A conventional Lipschitz ray casting of the whole image (one ray per pixel centre):
+/// the depth of each pixel (`+inf` for a miss) and the point evaluations.
+pub fn raycast<S: Shape + ?Sized>(
+    shape: &S,
+    domain: Aabb,
+    view: View,
+    w: u32,
+    h: u32,
+    lambda: f64,
+    eps: f64,
+    caster: Caster,
+) -> Result<(Vec<f64>, u64), String> {
+    let cam = Camera::try_new(view, w, h)?;
+    let b = Bounded {
+        shape,
+        domain,
+        lambda,
+    };
+    let mut depth = Vec::with_capacity(w as usize * h as usize);
+    let mut evals = 0;
+    for j in 0..h {
+        for i in 0..w {
+            let (o, d) = cam.ray(i, j);
+            let t = match clip_to_box(o, d, &domain) {
+                None => None,
+                Some((t0, t1)) => {
+                    let c = match caster {
+                        Caster::Standard => sphere_trace(&b, o, d, t0, t1, eps),
+                        Caster::Overshoot(k) => overshoot_trace(&b, o, d, t0, t1, eps, k),
+                    };
+                    evals += c.evals;
+                    c.t
+                }
+            };
+            depth.push(t.unwrap_or(f64::INFINITY));
+        }
+    }
+    Ok((depth, evals))
+}
