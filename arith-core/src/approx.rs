@@ -985,6 +985,35 @@ mod tests {
     }
 
     #[test]
+    fn tangent_bound_holds_for_any_tangent_point() {
+        // sqrt on [1, 4], alpha = 1/3: g = sqrt(x) - x/3 peaks at 3/4 (x = 9/4). A tangent
+        // at any p in [1, 4] bounds it from above; at p = 1 it is 2/3 + (1/2 - 1/3)*3 = 7/6,
+        // at p = 4 it is 2/3 + (1/4 - 1/3)*(-3) = 11/12; at p = 9/4 it is exactly 3/4.
+        let f = sqrt_enc;
+        let df = |x: f64| {
+            let (sl, sh) = sqrt_enc(x);
+            (round::div_down(0.5, sh), round::div_up(0.5, sl))
+        };
+        let alpha = 1.0 / 3.0;
+        for (p, want) in [(1.0, 7.0 / 6.0), (4.0, 11.0 / 12.0), (2.25, 0.75)] {
+            let (lo, hi) = bound_piece(&f, &df, alpha, 1.0, 4.0, p, false);
+            assert!(
+                hi >= want && hi <= want + 1e-14,
+                "p = {p}: hi {hi} vs {want}"
+            );
+            assert!(lo <= 2.0 / 3.0 && lo >= 2.0 / 3.0 - 1e-14);
+        }
+        // Convex: x^2 on [1, 3], alpha = 4, g = x^2 - 4x has minimum -4 at 2. Tangent at
+        // p = 1: -3 + (2 - 4)*2 = -7; at p = 3: -3 + (6 - 4)*(-2) = -7; at p = 2: -4.
+        let f = |x: f64| pow_enc(x, 2);
+        let df = |x: f64| (2.0 * x, 2.0 * x);
+        for (p, want) in [(1.0, -7.0), (3.0, -7.0), (2.0, -4.0), (f64::NAN, -4.0)] {
+            let (lo, hi) = bound_piece(&f, &df, 4.0, 1.0, 3.0, p, true);
+            assert_eq!((lo, hi), (want, -3.0), "p = {p}");
+        }
+    }
+
+    #[test]
     fn abs_cases() {
         // alpha = 1/2; g = |x| - x/2: 3/2 at both ends, 0 at 0.
         check(abs(-1.0, 3.0), 0.5, 0.75, 0.75);
