@@ -13,9 +13,12 @@
 
 use arith_core::round::two_sum;
 
-/// Below this magnitude the error term of a product/quotient may underflow, so its sign
-/// cannot be trusted: we then widen unconditionally. (`2^-900`, far above `2^-1022`.)
-const TINY: f64 = f64::from_bits(123 << 52);
+/// Below this magnitude the error term of a product/quotient may not be representable,
+/// so its sign cannot be trusted: we then widen unconditionally. (`2^-960`: for
+/// `|a*b| >= 2^-960` the exact error `a*b - fl(a*b)` is a multiple of
+/// `ulp(a)*ulp(b) >= 2^-1066` below `ulp(fl(a*b))`, hence an `f64`; likewise the division
+/// remainder for `|a| >= 2^-960`.)
+const TINY: f64 = f64::from_bits(63 << 52);
 
 #[inline]
 fn finite2(a: f64, b: f64) -> bool {
@@ -142,15 +145,19 @@ pub fn pow_hi_nonneg(x: f64, n: u32) -> f64 {
 
 #[inline]
 fn pow_nonneg(x: f64, mut n: u32, mul: impl Fn(f64, f64) -> f64) -> f64 {
-    let mut result = 1.0;
+    // `None` stands for the exact 1, so no bound is ever widened by a product with 1.
+    let mut result: Option<f64> = None;
     let mut base = x;
     loop {
         if n & 1 == 1 {
-            result = mul(result, base);
+            result = Some(match result {
+                None => base,
+                Some(r) => mul(r, base),
+            });
         }
         n >>= 1;
         if n == 0 {
-            return result;
+            return result.unwrap_or(1.0);
         }
         base = mul(base, base);
     }
@@ -161,8 +168,8 @@ mod tests {
     use super::*;
 
     #[test]
-    fn tiny_is_two_to_minus_900() {
-        assert_eq!(TINY, 2f64.powi(-900));
+    fn tiny_is_two_to_minus_960() {
+        assert_eq!(TINY, 2f64.powi(-960));
     }
 
     #[test]
