@@ -131,6 +131,11 @@ fn prod(a: f64, b: f64) -> (f64, f64) {
     }
 }
 
+/// `sqr` centres the quadratic term only when `R >= SQR_SHIFT_MIN·(|x0| + R)`, i.e. when
+/// the gain `R²` exceeds `2^-40·(|x0| + R)²`, far above the few ulps by which the
+/// differently rounded bounds of `sqr` and `x * x` can disagree.
+const SQR_SHIFT_MIN: f64 = 1.0 / (1u64 << 20) as f64;
+
 /// An upper bound of `a * b` for `a, b >= 0`, exact when the product is.
 #[inline]
 fn mul_up_exact(a: f64, b: f64) -> f64 {
@@ -183,20 +188,34 @@ impl Aa {
         r
     }
 
-    /// The form `mid + rad·ε_sym` enclosing `[lo, hi]`; unbounded for bad bounds.
+    /// The form `mid + rad·ε_sym` for `[lo, hi]`, with `mid = (lo + hi)/2` and
+    /// `rad = (hi - lo)/2` as exact reals, so that `ε_sym = eps` is exactly the point
+    /// `mid + rad·eps` (the convention of [`Range::bounds_at_inputs`]). When `mid` or
+    /// `rad` is not a float, the stored rounded values are off by at most `e`, which
+    /// goes on a fresh symbol: `mid + rad·eps` then still lies within the form for
+    /// `ε_sym = eps`. Unbounded for NaN, infinite or reversed bounds.
     fn with_symbol(sym: u64, lo: f64, hi: f64) -> Aa {
         if !(lo.is_finite() && hi.is_finite() && lo <= hi) {
             return Aa::entire();
         }
-        // Halving each bound is exact (barring subnormals, covered by the rounded-up
-        // radius below), and cannot overflow like `lo + hi`.
-        let mid = 0.5 * lo + 0.5 * hi;
-        let rad = f64::max(sum_up(hi, -mid), sum_up(mid, -lo));
-        let mut terms = Vec::new();
+        // Halving first cannot overflow like `lo + hi`; it is exact except for
+        // subnormals, where its error (< ETA) shifts both mid and rad.
+        let (a, b) = (0.5 * lo, 0.5 * hi);
+        let mut e = 0.0;
+        for (half, full) in [(a, lo), (b, hi)] {
+            if 2.0 * half != full {
+                acc_err(&mut e, 2.0 * arith_core::round::ETA);
+            }
+        }
+        let (mid, tm) = two_sum(a, b);
+        let (rad, tr) = two_sum(b, -a);
+        acc_err(&mut e, tm);
+        acc_err(&mut e, tr);
+        let mut terms = Vec::with_capacity(2);
         if rad != 0.0 {
             terms.push((sym, rad));
         }
-        Aa { x0: mid, terms }.finish(0.0)
+        Aa { x0: mid, terms }.finish(e)
     }
 
     /// Puts the accumulated error bound `e` on a fresh symbol (if non-zero) and turns
@@ -420,6 +439,11 @@ impl Aa {
             .finish(e);
         }
         let r = self.radius();
+        // When R² is below a few ulps of the result, the shift below gains less than
+        // rounding noise; the plain product keeps `sqr` never wider than `x * x`.
+        if r < (x0.abs() + r) * SQR_SHIFT_MIN {
+            return self.clone().mul_aa(self);
+        }
         let r2 = mul_up_exact(r, r);
         // The centre moves by exactly h + t = c - p (TwoSum), so the quadratic part minus
         // the shift lies in [-(h + t), r2 - (h + t)]: no rounding error of its own.
