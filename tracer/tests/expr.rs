@@ -112,14 +112,8 @@ fn precedence_trees() {
             b(BinOp::Mul, y(), num(2.0))
         )
     );
-    assert_eq!(
-        p("x - y - z"),
-        b(BinOp::Sub, b(BinOp::Sub, x(), y()), z())
-    );
-    assert_eq!(
-        p("x / y / z"),
-        b(BinOp::Div, b(BinOp::Div, x(), y()), z())
-    );
+    assert_eq!(p("x - y - z"), b(BinOp::Sub, b(BinOp::Sub, x(), y()), z()));
+    assert_eq!(p("x / y / z"), b(BinOp::Div, b(BinOp::Div, x(), y()), z()));
 }
 
 proptest! {
@@ -208,7 +202,12 @@ fn numbers_and_comments() {
     assert_eq!(at("5.", 0.0, 0.0, 0.0), 5.0);
     assert_eq!(at("12e2", 0.0, 0.0, 0.0), 1200.0);
     assert_eq!(
-        at("# a sphere\n  1 - x^2 # minus x squared\n\t- y^2 - z^2\n", 0.5, 0.5, 0.5),
+        at(
+            "# a sphere\n  1 - x^2 # minus x squared\n\t- y^2 - z^2\n",
+            0.5,
+            0.5,
+            0.5
+        ),
         0.25
     );
 }
@@ -272,7 +271,10 @@ fn constants_fold_only_when_exact() {
             arith_ia::Interval::constant(0.0),
         );
         let (lo, hi) = r.bounds();
-        assert!(lo < hi, "{src}: an inexact constant must give a proper interval");
+        assert!(
+            lo < hi,
+            "{src}: an inexact constant must give a proper interval"
+        );
     }
     let third = tape("1/3").eval(
         arith_ia::Interval::constant(0.0),
@@ -306,15 +308,31 @@ fn every_error_path_has_its_position() {
         ("  # nothing but a comment\n", 0, "empty formula"),
         ("x + $", 4, "unexpected character '$'"),
         ("x + é", 4, "unexpected character 'é'"),
-        ("(x + 1", 6, "expected ')' to close the '(' at column 1 but found end of input"),
+        (
+            "(x + 1",
+            6,
+            "expected ')' to close the '(' at column 1 but found end of input",
+        ),
         ("((x + 1)", 8, "expected ')' to close the '(' at column 1"),
-        ("x +", 3, "expected a number, a variable, a function or '(' but found end of input"),
+        (
+            "x +",
+            3,
+            "expected a number, a variable, a function or '(' but found end of input",
+        ),
         ("x * * y", 4, "but found '*'"),
         ("x & ", 4, "but found end of input"),
         ("|x", 0, "but found '|'"),
         ("()", 1, "but found ')'"),
-        ("x y", 2, "expected an operator or end of input but found name 'y'"),
-        ("x)", 1, "expected an operator or end of input but found ')'"),
+        (
+            "x y",
+            2,
+            "expected an operator or end of input but found name 'y'",
+        ),
+        (
+            "x)",
+            1,
+            "expected an operator or end of input but found ')'",
+        ),
         ("x, y", 1, "but found ','"),
         ("1 2", 2, "but found number '2'"),
         ("1.2.3", 0, "invalid number '1.2.3'"),
@@ -322,7 +340,11 @@ fn every_error_path_has_its_position() {
         ("1e", 1, "expected digits after the exponent mark"),
         ("1e+ 2", 1, "expected digits after the exponent mark"),
         ("1e999", 0, "too large"),
-        ("x^", 2, "expected an integer exponent after '^' but found end of input"),
+        (
+            "x^",
+            2,
+            "expected an integer exponent after '^' but found end of input",
+        ),
         ("x^-", 3, "expected an integer exponent after '^'"),
         ("x^y", 2, "but found name 'y'"),
         ("x^2.5", 2, "must be an integer"),
@@ -335,19 +357,43 @@ fn every_error_path_has_its_position() {
         ("w + 1", 0, "unknown variable 'w'"),
         ("X", 0, "unknown variable 'X'"),
         ("x(1)", 0, "'x' is not a function"),
-        ("sin x", 4, "expected '(' after the function name 'sin' but found name 'x'"),
+        (
+            "sin x",
+            4,
+            "expected '(' after the function name 'sin' but found name 'x'",
+        ),
         ("1 + cos", 7, "expected '(' after the function name 'cos'"),
         ("sin(x, y)", 0, "sin takes 1 argument but was given 2"),
         ("min(x)", 0, "min takes 2 arguments but was given 1"),
         ("max()", 0, "max takes 2 arguments but was given 0"),
-        ("sin(x", 5, "expected ',' or ')' to close the '(' at column 4"),
-        ("b = 1 - x^2 b", 12, "expected ';' after the binding of 'b' but found name 'b'"),
-        ("b = 1 - x^2", 11, "expected ';' after the binding of 'b' but found end of input"),
-        ("b = 1 - x^2;", 12, "expected the final expression after the bindings"),
+        (
+            "sin(x",
+            5,
+            "expected ',' or ')' to close the '(' at column 4",
+        ),
+        (
+            "b = 1 - x^2 b",
+            12,
+            "expected ';' after the binding of 'b' but found name 'b'",
+        ),
+        (
+            "b = 1 - x^2",
+            11,
+            "expected ';' after the binding of 'b' but found end of input",
+        ),
+        (
+            "b = 1 - x^2;",
+            12,
+            "expected the final expression after the bindings",
+        ),
         ("b = 1; # no body", 16, "expected the final expression"),
         ("b = ; b", 4, "but found ';'"),
         ("x = 1; x", 0, "cannot bind 'x': it is a coordinate"),
-        ("sin = 1; sin(0)", 0, "cannot bind 'sin': it is a function name"),
+        (
+            "sin = 1; sin(0)",
+            0,
+            "cannot bind 'sin': it is a function name",
+        ),
         ("b = 1; b = 2; b", 7, "'b' is already bound"),
         ("b = b + 1; b", 4, "unknown variable 'b'"),
         ("b = 1; c(x)", 7, "unknown function 'c'"),
@@ -358,8 +404,16 @@ fn every_error_path_has_its_position() {
     for &(src, pos, msg) in table {
         let e = err(src);
         assert_eq!(e.pos, pos, "{src:?}: {e}");
-        assert!(e.message.contains(msg), "{src:?}: got {:?}, want {msg:?}", e.message);
-        assert_eq!(e.to_string(), format!("error at column {}: {}", pos + 1, e.message), "{src:?}");
+        assert!(
+            e.message.contains(msg),
+            "{src:?}: got {:?}, want {msg:?}",
+            e.message
+        );
+        assert_eq!(
+            e.to_string(),
+            format!("error at column {}: {}", pos + 1, e.message),
+            "{src:?}"
+        );
     }
 }
 
@@ -483,9 +537,8 @@ fn check_ranges<R: Range>(src: &str, boxes: &[[(f64, f64); 3]], steps: usize) {
         for i in 0..=steps {
             for j in 0..=steps {
                 for k in 0..=steps {
-                    let p = |d: usize, s: usize| {
-                        b[d].0 + (b[d].1 - b[d].0) * s as f64 / steps as f64
-                    };
+                    let p =
+                        |d: usize, s: usize| b[d].0 + (b[d].1 - b[d].0) * s as f64 / steps as f64;
                     let v = t.eval(p(0, i), p(1, j), p(2, k));
                     assert!(
                         v.is_nan() || (lo <= v && v <= hi),
@@ -562,12 +615,14 @@ fn expr() -> impl Strategy<Value = Expr> {
         prop_oneof![
             inner.clone().prop_map(Expr::neg),
             (inner.clone(), -3i32..=5).prop_map(|(a, n)| Expr::pow(a, n)),
-            (select(Func::ALL.to_vec()), prop::collection::vec(inner.clone(), 2)).prop_map(
-                |(f, mut args)| {
+            (
+                select(Func::ALL.to_vec()),
+                prop::collection::vec(inner.clone(), 2)
+            )
+                .prop_map(|(f, mut args)| {
                     args.truncate(f.arity());
                     Expr::Call(f, args)
-                }
-            ),
+                }),
             (select(BinOp::ALL.to_vec()), inner.clone(), inner.clone())
                 .prop_map(|(op, a, b)| Expr::bin(op, a, b)),
             (select(BinOp::ALL.to_vec()), inner.clone(), inner)
@@ -604,7 +659,10 @@ fn program() -> impl Strategy<Value = Program> {
             .enumerate()
             .map(|(i, mut e)| {
                 fix_refs(&mut e, i);
-                Binding { name: format!("b{i}"), expr: e }
+                Binding {
+                    name: format!("b{i}"),
+                    expr: e,
+                }
             })
             .collect();
         fix_refs(&mut body, n);

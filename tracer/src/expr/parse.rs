@@ -174,7 +174,11 @@ fn lex(chars: &[char]) -> Result<Vec<Token>, ParseError> {
             let v: f64 = match text.parse() {
                 Ok(v) => v,
                 Err(_) => {
-                    return Err(ParseError::new(chars, start, format!("invalid number '{text}'")))
+                    return Err(ParseError::new(
+                        chars,
+                        start,
+                        format!("invalid number '{text}'"),
+                    ))
                 }
             };
             if !v.is_finite() {
@@ -184,16 +188,28 @@ fn lex(chars: &[char]) -> Result<Vec<Token>, ParseError> {
                     format!("number '{text}' is too large"),
                 ));
             }
-            out.push(Token { tok: Tok::Num(v, integer), pos: start, text });
+            out.push(Token {
+                tok: Tok::Num(v, integer),
+                pos: start,
+                text,
+            });
         } else if c.is_ascii_alphabetic() || c == '_' {
             let start = i;
             while i < n && (chars[i].is_ascii_alphanumeric() || chars[i] == '_') {
                 i += 1;
             }
             let text: String = chars[start..i].iter().collect();
-            out.push(Token { tok: Tok::Name(text.clone()), pos: start, text });
+            out.push(Token {
+                tok: Tok::Name(text.clone()),
+                pos: start,
+                text,
+            });
         } else if "+-*/^&|\\(),;=".contains(c) {
-            out.push(Token { tok: Tok::Sym(c), pos: i, text: c.to_string() });
+            out.push(Token {
+                tok: Tok::Sym(c),
+                pos: i,
+                text: c.to_string(),
+            });
             i += 1;
         } else {
             return Err(ParseError::new(
@@ -203,7 +219,11 @@ fn lex(chars: &[char]) -> Result<Vec<Token>, ParseError> {
             ));
         }
     }
-    out.push(Token { tok: Tok::End, pos: n, text: String::new() });
+    out.push(Token {
+        tok: Tok::End,
+        pos: n,
+        text: String::new(),
+    });
     Ok(out)
 }
 
@@ -429,7 +449,10 @@ impl Parser<'_> {
             Tok::Num(_, false) => {
                 return self.err_at(
                     t.pos,
-                    format!("the exponent after '^' must be an integer, found {}", describe(&t)),
+                    format!(
+                        "the exponent after '^' must be an integer, found {}",
+                        describe(&t)
+                    ),
                 )
             }
             _ => return self.expected("an integer exponent after '^'"),
@@ -454,7 +477,10 @@ impl Parser<'_> {
 
     fn check_exponent(&self, n: i64, pos: usize) -> Result<i64, ParseError> {
         if n.abs() > MAX_EXPONENT {
-            return self.err_at(pos, format!("exponent {n} is too large (at most {MAX_EXPONENT})"));
+            return self.err_at(
+                pos,
+                format!("exponent {n} is too large (at most {MAX_EXPONENT})"),
+            );
         }
         Ok(n)
     }
@@ -587,6 +613,13 @@ fn int_pow(base: i64, e: i64) -> Option<i64> {
 pub fn parse_program(src: &str) -> Result<Program, ParseError> {
     let chars: Vec<char> = src.chars().collect();
     let toks = lex(&chars)?;
-    let mut p = Parser { chars: &chars, toks, i: 0, nesting: 0, names: Vec::new(), index: HashMap::new() };
+    let mut p = Parser {
+        chars: &chars,
+        toks,
+        i: 0,
+        nesting: 0,
+        names: Vec::new(),
+        index: HashMap::new(),
+    };
     p.program()
 }

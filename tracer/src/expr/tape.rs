@@ -134,7 +134,14 @@ pub struct Instr {
 
 impl Instr {
     fn new(op: Op, a: u32, b: u32, n: i32, c: f64) -> Self {
-        Instr { op, n, a, b, c, last: 0 }
+        Instr {
+            op,
+            n,
+            a,
+            b,
+            c,
+            last: 0,
+        }
     }
 
     /// Register operands, in reading order.
@@ -306,9 +313,9 @@ impl Builder {
                 };
                 Val::R(self.emit(Instr::new(op, 0, 0, 0, 0.0)))
             }
-            Expr::Ref(i) => *binds.get(*i).ok_or_else(|| {
-                CompileError(format!("binding #{i} used before it is defined"))
-            })?,
+            Expr::Ref(i) => *binds
+                .get(*i)
+                .ok_or_else(|| CompileError(format!("binding #{i} used before it is defined")))?,
             Expr::Neg(a) => match self.expr(a, binds)? {
                 Val::C(c) => Val::C(-c),
                 v => self.unary(Op::Neg, v),
@@ -490,7 +497,11 @@ fn with_registers<R: 'static, T>(f: impl FnOnce(&mut Vec<Option<R>>) -> T) -> T 
 fn read<R: Clone>(regs: &mut [Option<R>], i: &Instr, k: u8) -> R {
     let r = if k == 0 { i.a } else { i.b } as usize;
     let slot = &mut regs[r];
-    let v = if i.last & (1 << k) != 0 { slot.take() } else { slot.clone() };
+    let v = if i.last & (1 << k) != 0 {
+        slot.take()
+    } else {
+        slot.clone()
+    };
     // The compiler only emits operands defined earlier and read before their last use.
     v.expect("tape invariant: operand register holds a value")
 }
@@ -498,7 +509,10 @@ fn read<R: Clone>(regs: &mut [Option<R>], i: &Instr, k: u8) -> R {
 impl Tape {
     /// Compiles a syntax tree.
     pub fn compile(p: &Program) -> Result<Tape, CompileError> {
-        let mut b = Builder { ins: Vec::new(), memo: HashMap::new() };
+        let mut b = Builder {
+            ins: Vec::new(),
+            memo: HashMap::new(),
+        };
         let mut binds = Vec::with_capacity(p.bindings.len());
         for bind in &p.bindings {
             let v = b.expr(&bind.expr, &binds)?;
@@ -506,7 +520,9 @@ impl Tape {
         }
         let out = b.expr(&p.body, &binds)?;
         let out = b.reg(out);
-        Ok(Tape { ins: finish(b.ins, out) })
+        Ok(Tape {
+            ins: finish(b.ins, out),
+        })
     }
 
     /// Number of instructions.
@@ -590,8 +606,16 @@ impl Tape {
         };
         let last = self.ins.len().saturating_sub(1);
         for (r, i) in self.ins.iter().enumerate() {
-            let a = if i.op.arity() >= 1 { get(&mut exprs, i.a) } else { Expr::Num(0.0) };
-            let b = if i.op.arity() == 2 { get(&mut exprs, i.b) } else { Expr::Num(0.0) };
+            let a = if i.op.arity() >= 1 {
+                get(&mut exprs, i.a)
+            } else {
+                Expr::Num(0.0)
+            };
+            let b = if i.op.arity() == 2 {
+                get(&mut exprs, i.b)
+            } else {
+                Expr::Num(0.0)
+            };
             let call = |f: Func, args: Vec<Expr>| Expr::Call(f, args);
             let e = match i.op {
                 Op::X => Expr::Var(Var::X),
@@ -624,14 +648,20 @@ impl Tape {
                 Op::Subtract => Expr::bin(BinOp::Subtract, a, b),
             };
             let e = if uses[r] > 1 && r != last && !matches!(e, Expr::Var(_) | Expr::Num(_)) {
-                bindings.push(super::ast::Binding { name: format!("t{r}"), expr: e });
+                bindings.push(super::ast::Binding {
+                    name: format!("t{r}"),
+                    expr: e,
+                });
                 Expr::Ref(bindings.len() - 1)
             } else {
                 e
             };
             exprs[r] = Some(e);
         }
-        let body = exprs.get_mut(last).and_then(Option::take).unwrap_or(Expr::Num(f64::NAN));
+        let body = exprs
+            .get_mut(last)
+            .and_then(Option::take)
+            .unwrap_or(Expr::Num(f64::NAN));
         Program { bindings, body }
     }
 
@@ -660,8 +690,16 @@ fn finish(ins: Vec<Instr>, out: u32) -> Vec<Instr> {
         if !live[r] {
             continue;
         }
-        i.a = if i.op.arity() >= 1 { new_index[i.a as usize] } else { 0 };
-        i.b = if i.op.arity() == 2 { new_index[i.b as usize] } else { 0 };
+        i.a = if i.op.arity() >= 1 {
+            new_index[i.a as usize]
+        } else {
+            0
+        };
+        i.b = if i.op.arity() == 2 {
+            new_index[i.b as usize]
+        } else {
+            0
+        };
         new_index[r] = kept.len() as u32;
         kept.push(i);
     }
@@ -675,7 +713,7 @@ fn finish(ins: Vec<Instr>, out: u32) -> Vec<Instr> {
     }
     for i in kept.iter_mut().rev() {
         for &k in i.operands().iter().rev() {
-            let r = i.reg(k as usize) as usize;
+            let r = i.reg(k) as usize;
             if !seen[r] {
                 seen[r] = true;
                 i.last |= 1 << k;
