@@ -127,9 +127,9 @@ impl<const N: usize> Add for Raa<N> {
         let x0 = self.x0 + y.x0;
         let mut s = self.acc + y.acc + U * x0.abs();
         let mut xs = [0.0; N];
-        for i in 0..N {
-            xs[i] = self.xs[i] + y.xs[i];
-            s += U * xs[i].abs();
+        for ((z, a), b) in xs.iter_mut().zip(&self.xs).zip(&y.xs) {
+            *z = a + b;
+            s += U * z.abs();
         }
         Raa {
             x0,
@@ -147,9 +147,9 @@ impl<const N: usize> Sub for Raa<N> {
         let x0 = self.x0 - y.x0;
         let mut s = self.acc + y.acc + U * x0.abs();
         let mut xs = [0.0; N];
-        for i in 0..N {
-            xs[i] = self.xs[i] - y.xs[i];
-            s += U * xs[i].abs();
+        for ((z, a), b) in xs.iter_mut().zip(&self.xs).zip(&y.xs) {
+            *z = a - b;
+            s += U * z.abs();
         }
         Raa {
             x0,
@@ -259,6 +259,7 @@ impl<const N: usize> Mul for Raa<N> {
     /// whole quadratic term goes to the accumulator, with no centre shift (this is
     /// what RevAA's tighter product improves on).
     #[inline]
+    #[allow(clippy::needless_range_loop)] // several arrays indexed together
     fn mul(self, y: Self) -> Self {
         let x = self;
         let x0 = x.x0 * y.x0;
@@ -287,6 +288,7 @@ impl<const N: usize> Div for Raa<N> {
     type Output = Self;
     /// `x * recip(y)`.
     #[inline]
+    #[allow(clippy::suspicious_arithmetic_impl)]
     fn div(self, y: Self) -> Self {
         self * y.recip()
     }

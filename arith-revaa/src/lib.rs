@@ -120,9 +120,9 @@ impl<const N: usize> Add for RevAa<N> {
         let x0 = self.x0 + y.x0;
         let mut s = self.e + y.e + U * x0.abs();
         let mut xs = [0.0; N];
-        for i in 0..N {
-            xs[i] = self.xs[i] + y.xs[i];
-            s += U * xs[i].abs();
+        for ((z, a), b) in xs.iter_mut().zip(&self.xs).zip(&y.xs) {
+            *z = a + b;
+            s += U * z.abs();
         }
         RevAa {
             x0,
@@ -140,9 +140,9 @@ impl<const N: usize> Sub for RevAa<N> {
         let x0 = self.x0 - y.x0;
         let mut s = self.e + y.e + U * x0.abs();
         let mut xs = [0.0; N];
-        for i in 0..N {
-            xs[i] = self.xs[i] - y.xs[i];
-            s += U * xs[i].abs();
+        for ((z, a), b) in xs.iter_mut().zip(&self.xs).zip(&y.xs) {
+            *z = a - b;
+            s += U * z.abs();
         }
         RevAa {
             x0,
@@ -262,6 +262,7 @@ impl<const N: usize> Mul for RevAa<N> {
     /// diagonal terms, where `εi² >= 0` justifies it); for `N = 1` both coincide.
     /// Written with nonnegative sums only, so rounding is bounded without cancellation.
     #[inline]
+    #[allow(clippy::needless_range_loop)] // several arrays indexed together
     fn mul(self, y: Self) -> Self {
         let x = self;
         let p0 = x.x0 * y.x0;
@@ -308,6 +309,7 @@ impl<const N: usize> Div for RevAa<N> {
     type Output = Self;
     /// `x * recip(y)`.
     #[inline]
+    #[allow(clippy::suspicious_arithmetic_impl)]
     fn div(self, y: Self) -> Self {
         self * y.recip()
     }
