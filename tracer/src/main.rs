@@ -1,1 +1,394 @@
-fn main() {}
+//! `tracer`: reliable ray casting of implicit surfaces from the command line.
+//!
+//! `tracer render`, `tracer range`, `tracer list`, `tracer preview` (see `--help`).
+//! User errors print one line on stderr and exit with code 2.
+
+use arith_core::{Arithmetic, Range};
+use clap::{Parser, Subcommand};
+use glam::DVec3;
+use std::path::PathBuf;
+use std::process::ExitCode;
+use tracer::arith::ArithKind;
+use tracer::output::{write_depth, write_png};
+use tracer::render::{render_kind, RenderOptions};
+use tracer::shape::{Aabb, Shape, View};
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "tracer",
+    version,
+    about = "Reliable ray casting of implicit surfaces (FRep: f >= 0 inside)"
+)]
+struct Cli {
+    #[command(subcommand)]
+    cmd: Cmd,
+}
+
+#[derive(Subcommand, Debug)]
+enum Cmd {
+    /// Render a model or a formula to a PNG (and optionally a depth map).
+    Render(RenderArgs),
+    /// Print the range of a formula over a box in each arithmetic.
+    Range(RangeArgs),
+    /// List the models with their domain and default view.
+    List,
+    /// Progressive refinement previewer (Lipschitz cone tracing).
+    Preview(tracer::progressive::PreviewArgs),
+}
+
+#[derive(clap::Args, Debug)]
+struct RenderArgs {
+    /// Model name (see `tracer list`); or give --expr.
+    model: Option<String>,
+    /// A formula over x, y, z (f >= 0 inside), e.g. "1 - x^2 - y^2 - z^2".
+    #[arg(long)]
+    expr: Option<String>,
+    /// Arithmetic: ia, aa, raa, revaa.
+    #[arg(long, default_value = "revaa")]
+    arith: String,
+    /// Image size WxH.
+    #[arg(long, default_value = "640x480")]
+    size: String,
+    /// Output PNG (default: <model>.png).
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Depth map output: .npy (float32, shape (H, W)) or .exr; +inf where the ray misses.
+    #[arg(long)]
+    depth: Option<PathBuf>,
+    /// Eye position X,Y,Z.
+    #[arg(long, allow_hyphen_values = true)]
+    eye: Option<String>,
+    /// Point looked at X,Y,Z.
+    #[arg(long = "look-at", allow_hyphen_values = true)]
+    look_at: Option<String>,
+    /// Up vector X,Y,Z (default 0,1,0).
+    #[arg(long, allow_hyphen_values = true)]
+    up: Option<String>,
+    /// Vertical field of view in degrees.
+    #[arg(long, allow_hyphen_values = true)]
+    fov: Option<String>,
+    /// Domain box XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX.
+    #[arg(long, allow_hyphen_values = true)]
+    domain: Option<String>,
+    /// Absolute precision of roots along rays (default: a quarter pixel footprint).
+    #[arg(long, allow_hyphen_values = true)]
+    eps: Option<String>,
+    /// Disable cell culling (Algorithm 2).
+    #[arg(long)]
+    no_culling: bool,
+    /// Disable argument pruning.
+    #[arg(long)]
+    no_pruning: bool,
+    /// Trace shadow rays towards the light.
+    #[arg(long)]
+    shadows: bool,
+}
+
+#[derive(clap::Args, Debug)]
+struct RangeArgs {
+    /// A formula over x, y, z.
+    #[arg(long)]
+    expr: String,
+    /// The box XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX.
+    #[arg(long = "box", allow_hyphen_values = true)]
+    bbox: String,
+    /// Arithmetic: ia, aa, raa, revaa or all.
+    #[arg(long, default_value = "all")]
+    arith: String,
+    /// Print JSON: [{"arith": "revaa", "lo": .., "hi": ..}, ...] (null for an infinite bound).
+    #[arg(long)]
+    json: bool,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let res = match &cli.cmd {
+        Cmd::Render(a) => cmd_render(a),
+        Cmd::Range(a) => cmd_range(a),
+        Cmd::List => {
+            cmd_list();
+            Ok(())
+        }
+        Cmd::Preview(a) => tracer::progressive::run_preview(a),
+    };
+    match res {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(msg) => {
+            // One line, whatever the message held.
+            eprintln!("error: {}", msg.replace('\n', " "));
+            ExitCode::from(2)
+        }
+    }
+}
+
+/// Parses `n` comma-separated finite numbers for `flag`.
+fn parse_list(flag: &str, s: &str, n: usize) -> Result<Vec<f64>, String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    if parts.len() != n {
+        return Err(format!(
+            "{flag} '{s}': expected {n} comma-separated numbers, got {}",
+            parts.len()
+        ));
+    }
+    parts
+        .iter()
+        .map(|p| match p.parse::<f64>() {
+            Ok(v) if v.is_finite() => Ok(v),
+            _ => Err(format!("{flag} '{s}': '{p}' is not a finite number")),
+        })
+        .collect()
+}
+
+fn parse_vec3(flag: &str, s: &str) -> Result<DVec3, String> {
+    let v = parse_list(flag, s, 3)?;
+    Ok(DVec3::new(v[0], v[1], v[2]))
+}
+
+fn parse_box(flag: &str, s: &str) -> Result<Aabb, String> {
+    let v = parse_list(flag, s, 6)?;
+    let b = Aabb::new(DVec3::new(v[0], v[1], v[2]), DVec3::new(v[3], v[4], v[5]));
+    if !(b.min.cmplt(b.max).all()) {
+        return Err(format!(
+            "{flag} '{s}': each minimum must be below its maximum"
+        ));
+    }
+    Ok(b)
+}
+
+fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let err =
+        || format!("--size '{s}': expected WxH with positive integers up to 16384, e.g. 640x480");
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(err)?;
+    let w: u32 = w.trim().parse().map_err(|_| err())?;
+    let h: u32 = h.trim().parse().map_err(|_| err())?;
+    if w == 0 || h == 0 || w > 16384 || h > 16384 {
+        return Err(err());
+    }
+    Ok((w, h))
+}
+
+fn parse_positive(flag: &str, s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(v) if v > 0.0 && v.is_finite() => Ok(v),
+        _ => Err(format!("{flag} '{s}': expected a positive number")),
+    }
+}
+
+/// A three-quarter view framing `domain`'s bounding sphere.
+fn view_for_box(b: &Aabb) -> View {
+    let c = (b.min + b.max) * 0.5;
+    let r = (b.max - b.min).length() * 0.5;
+    let fov: f64 = 35.0;
+    let dist = r / (fov.to_radians() * 0.5).sin() * 1.05;
+    View {
+        eye: c + DVec3::new(1.0, 0.8, 1.6).normalize() * dist,
+        look_at: c,
+        up: DVec3::Y,
+        fov_deg: fov,
+    }
+}
+
+fn cmd_render(a: &RenderArgs) -> Result<(), String> {
+    let kind: ArithKind = a.arith.parse().map_err(|e| format!("--arith: {e}"))?;
+    let (width, height) = parse_size(&a.size)?;
+    let domain_override = a
+        .domain
+        .as_deref()
+        .map(|s| parse_box("--domain", s))
+        .transpose()?;
+    enum Target {
+        Model(Box<tracer::shape::Model>),
+        Expr(tracer::expr::Tape),
+    }
+    let (target, name, domain, mut view) = match (&a.model, &a.expr) {
+        (Some(_), Some(_)) => return Err("give either a MODEL or --expr, not both".into()),
+        (None, None) => {
+            return Err("give a MODEL name (see `tracer list`) or --expr FORMULA".into())
+        }
+        (Some(m), None) => {
+            let model = tracer::models::find(m)?;
+            let domain = domain_override.unwrap_or(model.domain);
+            let view = model.view;
+            let name = model.name.clone();
+            (Target::Model(Box::new(model)), name, domain, view)
+        }
+        (None, Some(f)) => {
+            let tape = tracer::expr::parse(f).map_err(|e| format!("--expr: {e}"))?;
+            let domain = domain_override.unwrap_or(Aabb::cube(2.0));
+            (
+                Target::Expr(tape),
+                "expr".to_string(),
+                domain,
+                view_for_box(&domain),
+            )
+        }
+    };
+    if let Some(s) = &a.eye {
+        view.eye = parse_vec3("--eye", s)?;
+    }
+    if let Some(s) = &a.look_at {
+        view.look_at = parse_vec3("--look-at", s)?;
+    }
+    if let Some(s) = &a.up {
+        view.up = parse_vec3("--up", s)?;
+    }
+    if let Some(s) = &a.fov {
+        let f = parse_positive("--fov", s)?;
+        if f >= 180.0 {
+            return Err(format!("--fov '{s}': must be below 180 degrees"));
+        }
+        view.fov_deg = f;
+    }
+    tracer::camera::Camera::try_new(view, width, height).map_err(|e| format!("camera: {e}"))?;
+    let eps = a
+        .eps
+        .as_deref()
+        .map(|s| parse_positive("--eps", s))
+        .transpose()?;
+    let out = a
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("{name}.png")));
+    if let Some(d) = &a.depth {
+        let ext = d
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(|e| e.to_ascii_lowercase());
+        if !matches!(ext.as_deref(), Some("npy") | Some("exr")) {
+            return Err(format!(
+                "--depth '{}': the file must end in .npy or .exr",
+                d.display()
+            ));
+        }
+    }
+    // Fail on an unwritable output before a long render.
+    check_writable("--out", &out)?;
+    if let Some(d) = &a.depth {
+        check_writable("--depth", d)?;
+    }
+
+    let mut opts = RenderOptions::for_view(view, domain, width, height);
+    opts.eps = eps;
+    opts.culling = !a.no_culling;
+    opts.pruning = !a.no_pruning;
+    opts.shadows = a.shadows;
+    opts.progress = true;
+    let res = match &target {
+        Target::Model(m) => render_kind(kind, &m.shape, &opts)?,
+        Target::Expr(t) => render_kind(kind, t, &opts)?,
+    };
+    write_png(&out, width, height, &res.rgb).map_err(|e| format!("--out: {e}"))?;
+    if let Some(d) = &a.depth {
+        write_depth(d, width, height, &res.depth).map_err(|e| format!("--depth: {e}"))?;
+    }
+    println!(
+        "{name} {width}x{height} arith={kind} culling={} pruning={} shadows={}",
+        opts.culling, opts.pruning, opts.shadows
+    );
+    println!("{}", res.stats);
+    println!("wrote {}", out.display());
+    if let Some(d) = &a.depth {
+        println!("wrote {}", d.display());
+    }
+    Ok(())
+}
+
+/// Errors now (with the flag's name) if `path` cannot be created; leaves no file behind
+/// when it did not exist.
+fn check_writable(flag: &str, path: &std::path::Path) -> Result<(), String> {
+    let existed = path.exists();
+    if path.is_dir() {
+        return Err(format!("{flag} '{}': is a directory", path.display()));
+    }
+    std::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(path)
+        .map_err(|e| format!("{flag} '{}': cannot write: {e}", path.display()))?;
+    if !existed {
+        let _ = std::fs::remove_file(path);
+    }
+    Ok(())
+}
+
+fn range_over<A: Arithmetic, S: Shape>(shape: &S, b: &Aabb) -> (f64, f64) {
+    let x = <A::Cell as Range>::input(0, b.min.x, b.max.x);
+    let y = <A::Cell as Range>::input(1, b.min.y, b.max.y);
+    let z = <A::Cell as Range>::input(2, b.min.z, b.max.z);
+    shape.eval(x, y, z).bounds()
+}
+
+fn json_num(v: f64) -> String {
+    if v.is_finite() {
+        format!("{v:?}")
+    } else {
+        "null".into()
+    }
+}
+
+fn cmd_range(a: &RangeArgs) -> Result<(), String> {
+    let tape = tracer::expr::parse(&a.expr).map_err(|e| format!("--expr: {e}"))?;
+    let b = parse_box("--box", &a.bbox)?;
+    let kinds: Vec<ArithKind> = if a.arith.eq_ignore_ascii_case("all") {
+        ArithKind::ALL.to_vec()
+    } else {
+        vec![a
+            .arith
+            .parse()
+            .map_err(|e| format!("--arith: {e} or all"))?]
+    };
+    let rows: Vec<(ArithKind, (f64, f64))> = kinds
+        .iter()
+        .map(|&k| {
+            (
+                k,
+                tracer::with_arith!(k, A => range_over::<A, _>(&tape, &b)),
+            )
+        })
+        .collect();
+    if a.json {
+        let items: Vec<String> = rows
+            .iter()
+            .map(|(k, (lo, hi))| {
+                format!(
+                    "{{\"arith\": \"{}\", \"lo\": {}, \"hi\": {}}}",
+                    k.name(),
+                    json_num(*lo),
+                    json_num(*hi)
+                )
+            })
+            .collect();
+        println!("[{}]", items.join(", "));
+    } else {
+        for (k, (lo, hi)) in rows {
+            println!("{:<6} [{lo:e}, {hi:e}]", k.name());
+        }
+    }
+    Ok(())
+}
+
+fn cmd_list() {
+    for m in tracer::models::all() {
+        let v = m.view;
+        let d = m.domain;
+        println!("{}", m.name);
+        println!("    {}", m.description);
+        println!(
+            "    domain {},{},{},{},{},{}",
+            d.min.x, d.min.y, d.min.z, d.max.x, d.max.y, d.max.z
+        );
+        println!(
+            "    view   --eye {:.3},{:.3},{:.3} --look-at {},{},{} --up {},{},{} --fov {}",
+            v.eye.x,
+            v.eye.y,
+            v.eye.z,
+            v.look_at.x,
+            v.look_at.y,
+            v.look_at.z,
+            v.up.x,
+            v.up.y,
+            v.up.z,
+            v.fov_deg
+        );
+    }
+}

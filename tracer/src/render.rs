@@ -1,1 +1,406 @@
-//! (to be written)
+//! The renderer: tiles in parallel (rayon), each tile traversed by cell culling
+//! ([`crate::cull`]) and its remaining pixels traced by Algorithm 1 ([`crate::ray`]),
+//! shaded ([`crate::shade`]), with optional shadow rays through the same reliable
+//! intersection. Monomorphised once per arithmetic and shape; the per-ray path does not
+//! allocate for `Copy` arithmetics.
+
+use crate::arith::ArithKind;
+use crate::camera::Camera;
+use crate::cull::{CullStats, Culler};
+use crate::ray::{clip, first_root, Precision, RayParams, RayStats};
+use crate::shade::{self, Light, Material};
+use crate::shape::{Aabb, Model, Shape, View};
+use arith_core::Arithmetic;
+use glam::DVec3;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use rayon::prelude::*;
+use std::io::IsTerminal;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// What to render and how.
+#[derive(Clone, Debug)]
+pub struct RenderOptions {
+    pub width: u32,
+    pub height: u32,
+    pub view: View,
+    /// Rays are clipped to this box; the function is not looked at outside it.
+    pub domain: Aabb,
+    /// Absolute precision of the roots along the ray (`--eps`). `None`: a quarter of a
+    /// pixel's footprint at the root's distance, floored at `1e-7` of the domain diagonal.
+    pub eps: Option<f64>,
+    /// Algorithm 2 (screen-space cell culling).
+    pub culling: bool,
+    /// Argument pruning in Algorithm 1.
+    pub pruning: bool,
+    /// Shadow rays towards the light.
+    pub shadows: bool,
+    pub material: Material,
+    pub background: [u8; 3],
+    /// Allow a progress bar (shown only after a second, and only when stdout is a terminal).
+    pub progress: bool,
+    /// Stop starting new tiles after this instant (the result says it was cut).
+    pub deadline: Option<Instant>,
+    /// Stop starting new tiles once this flag is set.
+    pub cancel: Option<Arc<AtomicBool>>,
+    /// Tile side in pixels (the unit of parallel work and of the culling quadtree's root).
+    pub tile: u32,
+}
+
+impl RenderOptions {
+    /// The model's domain and view, culling and pruning on, no shadows.
+    pub fn new(model: &Model, width: u32, height: u32) -> Self {
+        Self::for_view(model.view, model.domain, width, height)
+    }
+
+    /// A view and a domain, culling and pruning on, no shadows.
+    pub fn for_view(view: View, domain: Aabb, width: u32, height: u32) -> Self {
+        RenderOptions {
+            width,
+            height,
+            view,
+            domain,
+            eps: None,
+            culling: true,
+            pruning: true,
+            shadows: false,
+            material: Material::default(),
+            background: shade::BACKGROUND,
+            progress: false,
+            deadline: None,
+            cancel: None,
+            tile: 32,
+        }
+    }
+
+    /// The precision actually used along primary rays (see [`RenderOptions::eps`]).
+    pub fn precision(&self, cam: &Camera) -> Precision {
+        match self.eps {
+            Some(e) => Precision { abs: e, rel: 0.0 },
+            None => Precision {
+                abs: 1e-7 * (self.domain.max - self.domain.min).length(),
+                rel: 0.25 * cam.pixel_angle(),
+            },
+        }
+    }
+}
+
+/// Work and time counters of one render.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RenderStats {
+    pub wall: Duration,
+    /// Primary rays traced (pixels not dropped by culling).
+    pub rays: u64,
+    pub shadow_rays: u64,
+    /// Range evaluations along rays (primary and shadow).
+    pub range_evals: u64,
+    /// Range evaluations along primary rays of pixels that hit.
+    pub range_evals_hit: u64,
+    /// Range evaluations of culling cells.
+    pub cell_evals: u64,
+    /// Point evaluations (normals).
+    pub point_evals: u64,
+    pub cells_culled: u64,
+    pub pixels_culled: u64,
+    /// Segments proved root-free by argument pruning alone.
+    pub pruned_empty: u64,
+    pub hits: u64,
+    /// Whether the render stopped early (deadline or cancel): skipped tiles are background.
+    pub cut: bool,
+    pub tiles_done: u64,
+    pub tiles_total: u64,
+}
+
+impl RenderStats {
+    /// Mean number of range evaluations per hit pixel (primary rays).
+    pub fn mean_evals_per_hit(&self) -> f64 {
+        if self.hits == 0 {
+            0.0
+        } else {
+            self.range_evals_hit as f64 / self.hits as f64
+        }
+    }
+}
+
+impl std::fmt::Display for RenderStats {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        writeln!(
+            f,
+            "wall time:            {:.3} s{}",
+            self.wall.as_secs_f64(),
+            if self.cut { " (cut short)" } else { "" }
+        )?;
+        writeln!(
+            f,
+            "rays:                 {} primary, {} shadow",
+            self.rays, self.shadow_rays
+        )?;
+        writeln!(
+            f,
+            "range evaluations:    {} on rays, {} on cells",
+            self.range_evals, self.cell_evals
+        )?;
+        writeln!(f, "point evaluations:    {}", self.point_evals)?;
+        writeln!(
+            f,
+            "cells culled:         {} ({} pixels)",
+            self.cells_culled, self.pixels_culled
+        )?;
+        writeln!(f, "hit pixels:           {}", self.hits)?;
+        write!(f, "range evals per hit:  {:.2}", self.mean_evals_per_hit())
+    }
+}
+
+/// An image with its depth and hit mask, row-major, row 0 at the top.
+#[derive(Clone, Debug)]
+pub struct RenderResult {
+    pub width: u32,
+    pub height: u32,
+    /// RGB, 3 bytes per pixel.
+    pub rgb: Vec<u8>,
+    /// Distance from the eye along the normalised ray to the first root; `+inf` for a miss.
+    pub depth: Vec<f32>,
+    pub hit: Vec<bool>,
+    pub stats: RenderStats,
+}
+
+struct TileOut {
+    rect: (u32, u32, u32, u32),
+    rgb: Vec<u8>,
+    depth: Vec<f32>,
+    stats: RenderStats,
+}
+
+/// Renders `shape` in the arithmetic `A`. Errors on a degenerate view or size.
+pub fn render<A: Arithmetic, S: Shape + ?Sized>(
+    shape: &S,
+    opts: &RenderOptions,
+) -> Result<RenderResult, String> {
+    let start = Instant::now();
+    let cam = Camera::try_new(opts.view, opts.width, opts.height)?;
+    if let Some(e) = opts.eps {
+        if !(e > 0.0 && e.is_finite()) {
+            return Err(format!("precision {e} must be positive and finite"));
+        }
+    }
+    let dom = opts.domain;
+    if !(dom.min.is_finite() && dom.max.is_finite() && dom.min.cmplt(dom.max).all()) {
+        return Err("domain box must be finite with min < max on every axis".into());
+    }
+    let precision = opts.precision(&cam);
+    let params = RayParams {
+        precision,
+        pruning: opts.pruning,
+    };
+    let light = Light::for_camera(&cam);
+    let culler = Culler::new(&cam, &dom);
+    let scale = (dom.max - dom.min).length();
+    let tile = opts.tile.max(1);
+    let mut tiles = Vec::new();
+    for j0 in (0..opts.height).step_by(tile as usize) {
+        for i0 in (0..opts.width).step_by(tile as usize) {
+            tiles.push((
+                i0,
+                j0,
+                (i0 + tile).min(opts.width),
+                (j0 + tile).min(opts.height),
+            ));
+        }
+    }
+    let show = opts.progress && std::io::stdout().is_terminal();
+    let bar = ProgressBar::with_draw_target(Some(tiles.len() as u64), ProgressDrawTarget::hidden());
+    if let Ok(style) = ProgressStyle::with_template("{bar:40} {pos}/{len} tiles {elapsed}") {
+        bar.set_style(style);
+    }
+    let bar_on = AtomicBool::new(false);
+    let stop = || {
+        opts.deadline.is_some_and(|d| Instant::now() >= d)
+            || opts
+                .cancel
+                .as_ref()
+                .is_some_and(|c| c.load(Ordering::Relaxed))
+    };
+
+    let outs: Vec<Option<TileOut>> = tiles
+        .par_iter()
+        .map(|&rect| {
+            if stop() {
+                return None;
+            }
+            let out = render_tile::<A, S>(shape, opts, &cam, &culler, &params, &light, scale, rect);
+            if show && !bar_on.load(Ordering::Relaxed) && start.elapsed() > Duration::from_secs(1) {
+                bar_on.store(true, Ordering::Relaxed);
+                bar.set_draw_target(ProgressDrawTarget::stderr());
+            }
+            bar.inc(1);
+            Some(out)
+        })
+        .collect();
+    bar.finish_and_clear();
+
+    let (w, h) = (opts.width as usize, opts.height as usize);
+    let mut rgb = Vec::with_capacity(w * h * 3);
+    for _ in 0..w * h {
+        rgb.extend_from_slice(&opts.background);
+    }
+    let mut depth = vec![f32::INFINITY; w * h];
+    let mut stats = RenderStats {
+        tiles_total: tiles.len() as u64,
+        ..Default::default()
+    };
+    for out in outs {
+        let Some(out) = out else {
+            stats.cut = true;
+            continue;
+        };
+        let (i0, j0, i1, j1) = out.rect;
+        let tw = (i1 - i0) as usize;
+        for j in j0..j1 {
+            let src = (j - j0) as usize * tw;
+            let dst = j as usize * w + i0 as usize;
+            depth[dst..dst + tw].copy_from_slice(&out.depth[src..src + tw]);
+            rgb[dst * 3..(dst + tw) * 3].copy_from_slice(&out.rgb[src * 3..(src + tw) * 3]);
+        }
+        let s = out.stats;
+        stats.rays += s.rays;
+        stats.shadow_rays += s.shadow_rays;
+        stats.range_evals += s.range_evals;
+        stats.range_evals_hit += s.range_evals_hit;
+        stats.cell_evals += s.cell_evals;
+        stats.point_evals += s.point_evals;
+        stats.cells_culled += s.cells_culled;
+        stats.pixels_culled += s.pixels_culled;
+        stats.pruned_empty += s.pruned_empty;
+        stats.hits += s.hits;
+        stats.tiles_done += 1;
+    }
+    let hit = depth.iter().map(|d| d.is_finite()).collect();
+    stats.wall = start.elapsed();
+    Ok(RenderResult {
+        width: opts.width,
+        height: opts.height,
+        rgb,
+        depth,
+        hit,
+        stats,
+    })
+}
+
+/// [`render`] with the arithmetic chosen at run time.
+pub fn render_kind<S: Shape + ?Sized>(
+    kind: ArithKind,
+    shape: &S,
+    opts: &RenderOptions,
+) -> Result<RenderResult, String> {
+    crate::with_arith!(kind, A => render::<A, S>(shape, opts))
+}
+
+#[allow(clippy::too_many_arguments)]
+fn render_tile<A: Arithmetic, S: Shape + ?Sized>(
+    shape: &S,
+    opts: &RenderOptions,
+    cam: &Camera,
+    culler: &Culler,
+    params: &RayParams,
+    light: &Light,
+    scale: f64,
+    rect: (u32, u32, u32, u32),
+) -> TileOut {
+    let (i0, j0, i1, j1) = rect;
+    let tw = (i1 - i0) as usize;
+    let n = tw * (j1 - j0) as usize;
+    let mut rgb = Vec::with_capacity(n * 3);
+    for _ in 0..n {
+        rgb.extend_from_slice(&opts.background);
+    }
+    let mut depth = vec![f32::INFINITY; n];
+    let mut st = RenderStats::default();
+    let mut trace = |i: u32, j: u32| {
+        let k = (j - j0) as usize * tw + (i - i0) as usize;
+        st.rays += 1;
+        let (o, d) = cam.ray(i, j);
+        let Some((t0, t1)) = clip(o, d, &opts.domain, 0.0) else {
+            return;
+        };
+        let mut rs = RayStats::default();
+        let hit = first_root::<A, S>(shape, o, d, t0, t1, params, &mut rs);
+        st.range_evals += rs.range_evals;
+        st.pruned_empty += rs.pruned_empty;
+        let Some(t) = hit else {
+            return;
+        };
+        st.hits += 1;
+        st.range_evals_hit += rs.range_evals;
+        depth[k] = t as f32;
+        let p = o + d * t;
+        let step = params.precision.at(t).max(scale * 1e-7);
+        let n = shade::normal(shape, p, step);
+        st.point_evals += 6;
+        let mut in_shadow = false;
+        if opts.shadows {
+            in_shadow = shadowed::<A, S>(shape, p, n, light, opts, params, scale, step, &mut st);
+        }
+        let c = shade::shade(n, d, light, &opts.material, in_shadow);
+        rgb[k * 3..k * 3 + 3].copy_from_slice(&c);
+    };
+    let mut cs = CullStats::default();
+    if opts.culling {
+        culler.traverse::<A, S, _>(shape, rect, &mut cs, &mut trace);
+    } else {
+        for j in j0..j1 {
+            for i in i0..i1 {
+                trace(i, j);
+            }
+        }
+    }
+    st.cell_evals = cs.cells_tested;
+    st.cells_culled = cs.cells_culled;
+    st.pixels_culled = cs.pixels_culled;
+    TileOut {
+        rect,
+        rgb,
+        depth,
+        stats: st,
+    }
+}
+
+/// Whether the segment from just off the surface at `p` towards the light holds a root.
+#[allow(clippy::too_many_arguments)]
+fn shadowed<A: Arithmetic, S: Shape + ?Sized>(
+    shape: &S,
+    p: DVec3,
+    n: Option<DVec3>,
+    light: &Light,
+    opts: &RenderOptions,
+    params: &RayParams,
+    scale: f64,
+    step: f64,
+    st: &mut RenderStats,
+) -> bool {
+    let l = light.dir;
+    // Leave the surface on the light's side, far enough that the surface itself is not
+    // found again.
+    let off = (8.0 * step).max(scale * 1e-4);
+    let side = match n {
+        Some(n) if n.dot(l) < 0.0 => -n,
+        Some(n) => n,
+        None => l,
+    };
+    let start = p + side * off;
+    st.shadow_rays += 1;
+    let Some((t0, t1)) = clip(start, l, &opts.domain, off) else {
+        return false;
+    };
+    let mut rs = RayStats::default();
+    let sp = RayParams {
+        precision: Precision {
+            abs: params.precision.at(0.0).max(step),
+            rel: 0.0,
+        },
+        pruning: params.pruning,
+    };
+    let hit = first_root::<A, S>(shape, start, l, t0, t1, &sp, &mut rs).is_some();
+    st.range_evals += rs.range_evals;
+    hit
+}
