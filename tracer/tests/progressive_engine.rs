@@ -1,0 +1,340 @@
+//! Engine tests for the progressive refinement previewer (headless).
+
+use glam::DVec3;
+use tracer::gm_models::GmModel;
+use tracer::lipschitz::Bounded;
+use tracer::progressive::*;
+use tracer::shape::{Aabb, Model, Shape, View};
+
+fn model(name: &str) -> Model {
+    tracer::gm_models::all()
+        .into_iter()
+        .find(|m| m.name == name)
+        .unwrap()
+}
+
+/// The final image equals a conventional (standard) Lipschitz ray caster's pixel for
+/// pixel in hit mask, and in depth within `k eps` (k the overshooting factor).
+///
+/// Why `k eps`: near a simple root at `t*` with slope `s <= λ` along the ray, the
+/// standard caster stops at its first point with `r = |f|/λ < eps`, whose predecessor had
+/// `r >= eps`, so its distance to the root lies in `[(eps - eps s/λ) λ/s, eps λ/s)`, i.e.
+/// within `eps` of `eps λ/s`; the overshooting caster's last step is at most `k r`, so
+/// its distance lies within `k eps` of the same value. A 1% allowance covers the
+/// curvature of `f` over the last step (second order in `eps`).
+#[test]
+fn final_image_equals_the_conventional_ray_caster() {
+    let cases: &[(&str, u32, u32)] = &[
+        ("mitchell-gm", 32, 32),
+        ("mitchell-gm", 37, 24),
+        ("mitchell-gm", 30, 20),
+        ("hypertexture-1", 32, 32),
+        ("hypertexture-1", 37, 24),
+        ("hypertexture-2", 24, 18),
+        ("blobby", 20, 16),
+        ("landscape", 30, 20),
+    ];
+    for &(name, w, h) in cases {
+        let m = model(name);
+        for cs in [ChildStart::Radial, ChildStart::Paper] {
+            let mut opts = Options::new(m.lipschitz.unwrap());
+            opts.child_start = cs;
+            let mut e = Engine::new(m.clone(), m.domain, m.view, w, h, opts).unwrap();
+            e.run();
+            assert!(e.is_done());
+            let (reference, _) = raycast(
+                &m,
+                m.domain,
+                m.view,
+                w,
+                h,
+                opts.lambda,
+                opts.eps,
+                Caster::Standard,
+            )
+            .unwrap();
+            let mut hits = 0;
+            for (k, (a, b)) in e.depth().iter().zip(&reference).enumerate() {
+                assert!(!a.is_nan(), "{name} {w}x{h}: pixel {k} never finished");
+                assert_eq!(
+                    a.is_finite(),
+                    b.is_finite(),
+                    "{name} {w}x{h} {cs:?}: hit mask differs at pixel {k}"
+                );
+                if a.is_finite() {
+                    hits += 1;
+                    let tol = opts.overshoot * opts.eps * 1.01;
+                    assert!(
+                        (a - b).abs() <= tol,
+                        "{name} {w}x{h} {cs:?}: depth {a} vs {b} at pixel {k}"
+                    );
+                }
+            }
+            // The case is not vacuous: it has hits and misses.
+            assert!(hits > 0 && hits < (w * h) as usize, "{name}: {hits} hits");
+        }
+    }
+}
+
+#[test]
+fn prime_factor_plan_follows_eq_7() {
+    let p = Plan::new(800, 600);
+    assert_eq!((p.u, p.v, p.size), (4, 3, 200));
+    assert_eq!(p.splits, vec![5, 5, 2, 2, 2]);
+    let p = Plan::new(37, 24);
+    assert_eq!((p.u, p.v, p.size), (37, 24, 1));
+    assert!(p.splits.is_empty());
+    assert_eq!(Plan::new(64, 64).splits, vec![2; 6]);
+    assert_eq!(prime_factors_desc(360), vec![5, 3, 3, 2, 2, 2]);
+}
+
+/// A unit-radius sphere at distance `D` on the cone axis: no point of the sphere lies in
+/// the cone before axial distance `D - 1`, so `t_M <= D - 1`.
+#[test]
+fn cone_tracing_stops_before_the_surface_and_escapes_past_it() {
+    struct Ball;
+    impl Shape for Ball {
+        fn eval<R: arith_core::Real>(&self, x: R, y: R, z: R) -> R {
+            (x.sqr() + y.sqr() + z.sqr()).sqrt().rsub(1.0)
+        }
+    }
+    let b = Bounded {
+        shape: &Ball,
+        domain: Aabb::cube(1.5),
+        lambda: 1.0,
+    };
+    let o = DVec3::new(0.0, 0.0, -5.0);
+    let mut evals = 0;
+    for tan_a in [0.001, 0.01, 0.05] {
+        match trace_cone(&b, o, DVec3::Z, tan_a, 0.0, 20.0, &mut evals) {
+            ConeEnd::Reached(tm) => {
+                assert!(tm <= 4.0, "tan {tan_a}: t_M {tm}");
+                // Thinner cones get closer.
+                assert!(tm > 4.0 - 60.0 * tan_a, "tan {tan_a}: t_M {tm}");
+            }
+            e => panic!("{e:?}"),
+        }
+    }
+    assert!(evals > 0);
+    // An axis passing 1.3 from the centre with a thin cone misses the ball entirely.
+    let o2 = DVec3::new(1.3, 0.0, -5.0);
+    assert_eq!(
+        trace_cone(&b, o2, DVec3::Z, 0.01, 0.0, 20.0, &mut evals),
+        ConeEnd::Escaped
+    );
+    // Condition (4) fails at t0 when the first sphere cannot hold the cone's section.
+    assert_eq!(
+        trace_cone(&b, o, DVec3::Z, 0.5, 3.9, 20.0, &mut evals),
+        ConeEnd::Blocked
+    );
+}
+
+fn hyper64() -> Engine<Model> {
+    let m = model("hypertexture-1");
+    Engine::new(
+        m.clone(),
+        m.domain,
+        m.view,
+        64,
+        64,
+        Options::new(m.lipschitz.unwrap()),
+    )
+    .unwrap()
+}
+
+#[test]
+fn region_of_interest_refines_only_its_samples_first() {
+    let mut e = hyper64();
+    for _ in 0..30 {
+        e.step();
+    }
+    let roi = Rect {
+        x0: 10,
+        y0: 20,
+        x1: 30,
+        y1: 34,
+    };
+    e.set_roi(roi).unwrap();
+    assert!(e.queue_lens().1 > 0);
+    let mut finished = false;
+    for _ in 0..100_000 {
+        if let Step::Processed {
+            roi_finished: true, ..
+        } = e.step()
+        {
+            finished = true;
+            break;
+        }
+    }
+    assert!(finished);
+    assert_eq!(e.roi(), None);
+    for j in 0..64 {
+        for i in 0..64 {
+            let inside = (roi.x0..roi.x1).contains(&i) && (roi.y0..roi.y1).contains(&j);
+            if inside {
+                assert!(e.pixel_done(i, j), "ROI pixel ({i},{j}) not final");
+            }
+        }
+    }
+    let outside_done = (0..64)
+        .flat_map(|j| (0..64).map(move |i| (i, j)))
+        .filter(|&(i, j)| {
+            !((roi.x0..roi.x1).contains(&i) && (roi.y0..roi.y1).contains(&j)) && e.pixel_done(i, j)
+        })
+        .count();
+    assert!(
+        outside_done < 64 * 64 - 20 * 14,
+        "outside the ROI nearly nothing should be final yet ({outside_done})"
+    );
+    assert!(!e.is_done());
+    e.run();
+    assert!((0..64).all(|j| (0..64).all(|i| e.pixel_done(i, j))));
+}
+
+#[test]
+fn cancelling_a_region_flushes_its_samples_back_and_changes_nothing_final() {
+    let mut plain = hyper64();
+    plain.run();
+    let mut e = hyper64();
+    for _ in 0..30 {
+        e.step();
+    }
+    e.set_roi(Rect::from_corners((40, 5), (60, 25))).unwrap();
+    for _ in 0..50 {
+        e.step();
+    }
+    let (p, s) = e.queue_lens();
+    assert!(s > 0, "the ROI should still have samples");
+    e.cancel_roi();
+    assert_eq!(e.queue_lens(), (p + s, 0));
+    assert_eq!(e.roi(), None);
+    e.run();
+    assert_eq!(e.depth(), plain.depth());
+    assert_eq!(e.image().snapshot(), plain.image().snapshot());
+    assert!(e
+        .set_roi(Rect {
+            x0: 5,
+            y0: 5,
+            x1: 5,
+            y1: 9
+        })
+        .is_err());
+    assert!(e
+        .set_roi(Rect {
+            x0: 0,
+            y0: 0,
+            x1: 65,
+            y1: 9
+        })
+        .is_err());
+}
+
+#[test]
+fn previewer_paints_a_full_frame_early() {
+    // After four of the six levels (down to samples of 8x8 pixels) the image already
+    // shows the model, while most pixels are not final yet.
+    let mut e = hyper64();
+    while e.next_level().is_some_and(|l| l < 4) {
+        e.step();
+    }
+    let done = (0..64)
+        .flat_map(|j| (0..64).map(move |i| (i, j)))
+        .filter(|&(i, j)| e.pixel_done(i, j))
+        .count();
+    assert!(done < 64 * 64 / 2, "{done}");
+    let img = e.image().snapshot();
+    let bg = tracer::shade::BACKGROUND;
+    let bgc = (bg[0] as u32) << 16 | (bg[1] as u32) << 8 | bg[2] as u32;
+    assert!(img.iter().any(|&c| c != bgc));
+}
+
+#[test]
+fn anti_aliasing_box_filters_subpixel_samples() {
+    let m = model("mitchell-gm");
+    let mut opts = Options::new(m.lipschitz.unwrap());
+    opts.aa = 2;
+    let mut e = Engine::new(m.clone(), m.domain, m.view, 16, 12, opts).unwrap();
+    assert_eq!(e.virtual_size(), (32, 24));
+    e.run();
+    // The virtual image equals the conventional caster at twice the resolution.
+    let (reference, _) = raycast(
+        &m,
+        m.domain,
+        m.view,
+        32,
+        24,
+        opts.lambda,
+        opts.eps,
+        Caster::Standard,
+    )
+    .unwrap();
+    for (a, b) in e.depth().iter().zip(&reference) {
+        assert_eq!(a.is_finite(), b.is_finite());
+    }
+    // Silhouette pixels mix the surface and the background colour.
+    let bg = tracer::shade::BACKGROUND;
+    let img = e.image().to_rgb();
+    let mixed = (0..12)
+        .flat_map(|j| (0..16).map(move |i| (i, j)))
+        .filter(|&(i, j)| {
+            let k = |dx, dy| reference[((2 * j + dy) * 32 + 2 * i + dx) as usize].is_finite();
+            let n = [k(0, 0), k(1, 0), k(0, 1), k(1, 1)]
+                .iter()
+                .filter(|&&h| h)
+                .count();
+            n > 0 && n < 4 && img.get_pixel(i, j).0 != bg
+        });
+    assert!(mixed.count() > 0);
+}
+
+#[test]
+fn bad_options_are_errors() {
+    let m = model("mitchell-gm");
+    let v: View = m.view;
+    for (l, aa) in [(0.0, 1), (f64::NAN, 1), (1.0, 0), (1.0, 99)] {
+        let mut o = Options::new(l);
+        o.aa = aa;
+        assert!(Engine::new(GmModel::Mitchell, m.domain, v, 8, 8, o).is_err());
+    }
+    assert!(Engine::new(GmModel::Mitchell, m.domain, v, 0, 8, Options::new(1.0)).is_err());
+}
+
+#[test]
+fn headless_preview_writes_a_snapshot_per_level() {
+    let dir = std::env::temp_dir().join(format!("tracer-preview-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let args = PreviewArgs {
+        model: "mitchell-gm".into(),
+        width: 24,
+        height: 16,
+        lambda: None,
+        eps: 1e-4,
+        overshoot: 1.46,
+        aa: 1,
+        paper_child_start: false,
+        headless: true,
+        snapshots: Some(dir.clone()),
+        out: Some(dir.join("out.png")),
+        fps: 30,
+        stop_after: None,
+    };
+    run_preview(&args).unwrap();
+    // 24x16: gcd 8 = 2*2*2, so levels 0, 1, 2 complete before the pixel level 3.
+    for l in 0..3 {
+        assert!(dir.join(format!("level-{l:02}.png")).exists(), "level {l}");
+    }
+    assert!(!dir.join("level-03.png").exists());
+    let out = image::open(dir.join("out.png")).unwrap();
+    assert_eq!((out.width(), out.height()), (24, 16));
+    let bad = PreviewArgs {
+        model: "no-such-model".into(),
+        ..args.clone()
+    };
+    assert!(run_preview(&bad).is_err());
+    let bad = PreviewArgs {
+        lambda: Some(-1.0),
+        ..args
+    };
+    assert!(run_preview(&bad).is_err());
+    let _ = std::fs::remove_dir_all(&dir);
+}

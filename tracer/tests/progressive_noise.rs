@@ -1,0 +1,159 @@
+//! The noise functions' and the models' derived bounds against sampled values and
+//! gradients (finite differences at many random points): no sample may exceed a bound.
+
+use arith_core::{Range, Real};
+use arith_ia::Interval;
+use glam::DVec3;
+use tracer::lipschitz::Dual;
+use tracer::noise::{eval_field, Cellular, Field3, Perlin, SparseConvolution, SplitMix64};
+use tracer::shape::Shape;
+
+fn fields() -> Vec<(&'static str, Box<dyn Field3>)> {
+    vec![
+        ("perlin", Box::new(Perlin::new(7))),
+        ("sparse", Box::new(SparseConvolution::new(8))),
+        ("cellular", Box::new(Cellular::new(9))),
+    ]
+}
+
+fn random_point(rng: &mut SplitMix64, r: f64) -> DVec3 {
+    DVec3::new(rng.range(-r, r), rng.range(-r, r), rng.range(-r, r))
+}
+
+/// Central differences with step `h`, and the analytic gradient, both within the bounds;
+/// the analytic gradient agrees with the differences (it feeds the Dual evaluation).
+#[test]
+fn sampled_noise_values_and_gradients_stay_within_the_derived_bounds() {
+    let mut rng = SplitMix64(42);
+    let h = 1e-6;
+    for (name, f) in fields() {
+        let (lo, hi) = f.value_bound();
+        let (mut max_v, mut max_g, mut max_p) = (0.0f64, 0.0f64, 0.0f64);
+        for _ in 0..20_000 {
+            let p = random_point(&mut rng, 20.0);
+            let v = f.value(p);
+            assert!(lo <= v && v <= hi, "{name}: value {v} at {p:?}");
+            let fd = DVec3::new(
+                f.value(p + DVec3::X * h) - f.value(p - DVec3::X * h),
+                f.value(p + DVec3::Y * h) - f.value(p - DVec3::Y * h),
+                f.value(p + DVec3::Z * h) - f.value(p - DVec3::Z * h),
+            ) / (2.0 * h);
+            let g = f.gradient(p);
+            // Cellular noise has kinks (Voronoi faces) where differences straddle two cells.
+            if name != "cellular" {
+                assert!(
+                    (fd - g).length() <= 1e-4 * (1.0 + g.length()),
+                    "{name}: gradient {g:?} vs differences {fd:?} at {p:?}"
+                );
+            }
+            for d in [fd, g] {
+                assert!(
+                    d.length() <= f.lipschitz() * (1.0 + 1e-6),
+                    "{name}: |grad| {} > L {} at {p:?}",
+                    d.length(),
+                    f.lipschitz()
+                );
+                assert!(
+                    d.abs().max_element() <= f.partial_bound() * (1.0 + 1e-6),
+                    "{name}: partial {d:?} at {p:?}"
+                );
+            }
+            max_v = max_v.max(v.abs());
+            max_g = max_g.max(g.length());
+            max_p = max_p.max(g.abs().max_element());
+        }
+        println!("{name}: sampled max |n| {max_v:.3} (bound {hi}), |grad| {max_g:.3} (L {}), partial {max_p:.3} (G {})", f.lipschitz(), f.partial_bound());
+        // The samples are not degenerate.
+        assert!(max_v > 0.1 && max_g > 0.1);
+    }
+}
+
+/// Over interval boxes, the enclosure holds every sampled point value.
+#[test]
+fn noise_over_intervals_encloses_sampled_points() {
+    let mut rng = SplitMix64(43);
+    for (name, f) in fields() {
+        for _ in 0..2_000 {
+            let c = random_point(&mut rng, 10.0);
+            let r = rng.range(0.0, 0.3);
+            let iv = |a: f64| Interval::input(0, a - r, a + r);
+            let e = eval_field(f.as_ref(), &iv(c.x), &iv(c.y), &iv(c.z));
+            let (lo, hi) = e.bounds();
+            for _ in 0..10 {
+                let p = c + DVec3::new(rng.range(-r, r), rng.range(-r, r), rng.range(-r, r));
+                let v = f.value(p);
+                assert!(lo <= v && v <= hi, "{name}: {v} outside [{lo}, {hi}]");
+            }
+        }
+    }
+}
+
+/// Each model's Lipschitz bound is not exceeded by sampled difference quotients, and its
+/// Dual gradient at points matches finite differences.
+#[test]
+fn model_lipschitz_bounds_hold_on_samples() {
+    let mut rng = SplitMix64(44);
+    let h = 1e-6;
+    for m in tracer::gm_models::all() {
+        let l = m.lipschitz.unwrap();
+        let (lo, hi) = (m.domain.min, m.domain.max);
+        let f = |p: DVec3| m.eval(p.x, p.y, p.z);
+        let mut worst = 0.0f64;
+        let n = if m.name == "blobby" { 1500 } else { 4000 };
+        for _ in 0..n {
+            let p = DVec3::new(
+                rng.range(lo.x + h, hi.x - h),
+                rng.range(lo.y + h, hi.y - h),
+                rng.range(lo.z + h, hi.z - h),
+            );
+            let fd = DVec3::new(
+                f(p + DVec3::X * h) - f(p - DVec3::X * h),
+                f(p + DVec3::Y * h) - f(p - DVec3::Y * h),
+                f(p + DVec3::Z * h) - f(p - DVec3::Z * h),
+            ) / (2.0 * h);
+            assert!(
+                fd.length() <= l * (1.0 + 1e-6),
+                "{}: |grad| {} > {l} at {p:?}",
+                m.name,
+                fd.length()
+            );
+            worst = worst.max(fd.length());
+            let d = m.eval(Dual::var(p.x, 0), Dual::var(p.y, 1), Dual::var(p.z, 2));
+            let g = DVec3::from_array(d.g);
+            // Away from kinks (the blobby model's support boundaries, cellular faces).
+            if (g - fd).length() > 1e-3 * (1.0 + g.length())
+                && !matches!(m.name.as_str(), "blobby" | "landscape")
+            {
+                panic!("{}: dual gradient {g:?} vs differences {fd:?}", m.name);
+            }
+        }
+        println!("{}: lambda {l:.3}, sampled max |grad| {worst:.3}", m.name);
+    }
+}
+
+/// The gradient enclosure over an interval box holds sampled gradients.
+#[test]
+fn dual_interval_gradients_enclose_sampled_gradients() {
+    let mut rng = SplitMix64(45);
+    let m = tracer::gm_models::all()
+        .into_iter()
+        .find(|m| m.name == "mitchell-gm")
+        .unwrap();
+    for _ in 0..300 {
+        let c = random_point(&mut rng, 1.8);
+        let r = rng.range(0.0, 0.2);
+        let v = |a: f64, k| Dual::var(Interval::input(k, a - r, a + r), k);
+        let e = m.eval(v(c.x, 0), v(c.y, 1), v(c.z, 2));
+        for _ in 0..10 {
+            let p = c + DVec3::new(rng.range(-r, r), rng.range(-r, r), rng.range(-r, r));
+            let d = m.eval(Dual::var(p.x, 0), Dual::var(p.y, 1), Dual::var(p.z, 2));
+            for k in 0..3 {
+                let (lo, hi) = e.g[k].bounds();
+                assert!(lo <= d.g[k] && d.g[k] <= hi);
+            }
+            let (lo, hi) = e.v.bounds();
+            assert!(lo <= d.v && d.v <= hi);
+        }
+    }
+    let _ = <f64 as Real>::constant(0.0);
+}
