@@ -85,17 +85,18 @@ impl Arithmetic for AaArith {
     type Cell = Aa;
 }
 
-/// An upper bound of `a + b`, equal to `fl(a + b)` when that is exact or rounded up
-/// (checked with TwoSum), so exact sums stay exact. Overflow and NaN give `+inf`.
+/// The smallest float `>= a + b`: `fl(a + b)` when TwoSum shows it exact or rounded up,
+/// its successor when rounded down, so exact sums stay exact. Overflow, NaN and a
+/// non-finite TwoSum residual (intermediate overflow) give `+inf`.
 #[inline]
 fn sum_up(a: f64, b: f64) -> f64 {
     let (s, t) = two_sum(a, b);
-    if t > 0.0 {
-        s.next_up()
-    } else if s.is_nan() {
-        f64::INFINITY
-    } else {
+    if t <= 0.0 && t > f64::NEG_INFINITY && !s.is_nan() {
         s
+    } else if t > 0.0 && t < f64::INFINITY {
+        s.next_up()
+    } else {
+        f64::INFINITY
     }
 }
 
@@ -307,7 +308,7 @@ impl Aa {
 
     /// `self / c` in place.
     fn div_scalar(mut self, c: f64) -> Aa {
-        if self.is_entire() || c == 0.0 || c.is_nan() {
+        if self.is_entire() || c == 0.0 || !c.is_finite() {
             return Aa::entire();
         }
         let r = 1.0 / c;

@@ -364,3 +364,56 @@ fn mitchell_widths_and_inclusion() {
         }
     }
 }
+
+#[test]
+fn domain_edges_and_fast_paths() {
+    let x = Aa::input(0, 1.0, 2.0);
+    // abs of a positive or negative form is the form itself (no fresh symbol).
+    assert_eq!(x.abs(), x);
+    assert_eq!((-x.clone()).abs(), x);
+    // min/max of disjoint ranges: the operand itself, correlation kept.
+    let y = Aa::input(1, 3.0, 4.0);
+    assert_eq!(x.min(&y), x);
+    assert_eq!(x.max(&y), y);
+    assert_eq!((x.min(&y) - x.clone()).bounds(), (0.0, 0.0));
+    // Overlapping ranges: a sound enclosure of min.
+    let z = Aa::input(2, 1.5, 3.5);
+    let (lo, hi) = x.min(&z).bounds();
+    assert!(lo <= 1.0 && hi >= 2.0, "{lo} {hi}");
+    let (lo, hi) = x.max(&z).bounds();
+    assert!(lo <= 1.5 && hi >= 3.5, "{lo} {hi}");
+    // Ranges holding 0: recip, division and ln become the whole line.
+    let s = Aa::input(0, -1.0, 1.0);
+    let whole = (f64::NEG_INFINITY, f64::INFINITY);
+    assert_eq!(s.recip().bounds(), whole);
+    assert_eq!((x.clone() / s.clone()).bounds(), whole);
+    assert_eq!((x.clone() / 0.0).bounds(), whole);
+    assert_eq!(s.ln().bounds(), whole);
+    assert_eq!(s.powi(-2).bounds(), whole);
+    // sqrt of a range wholly below 0 is exactly 0.
+    assert_eq!(Aa::input(0, -3.0, -1.0).sqrt().bounds(), (0.0, 0.0));
+    // Extreme exponents do not panic.
+    let (lo, hi) = x.powi(i32::MIN).bounds();
+    assert!(lo <= 0.0 && hi >= 0.0 && !lo.is_nan() && !hi.is_nan());
+    assert_eq!(x.powi(0).bounds(), (1.0, 1.0));
+    assert_eq!(x.powi(1), x);
+}
+
+#[test]
+fn non_affine_results_stay_correlated() {
+    // e = exp(x) over [0, 1] has one new symbol; e - e is exactly 0, and e - x keeps the
+    // linear dependence on x, so it is narrower than the difference of the ranges.
+    let x = Aa::input(0, 0.0, 1.0);
+    let e = x.exp();
+    assert_eq!((e.clone() - e.clone()).bounds(), (0.0, 0.0));
+    // Intervals give [1, e] - [0, 1] = [0, e], width 2.718; the AA form is about
+    // 0.718·x + zeta ± delta, width about 0.72 + 2·delta.
+    let (lo, hi) = (e - x.clone()).bounds();
+    assert!(hi - lo < 1.0, "{lo} {hi}");
+    // e^1 - 1 = 1.718.. and e^0 - 0 = 1 are both inside.
+    assert!(lo <= 1.0 && hi >= std::f64::consts::E - 1.0);
+    // The new symbol is fresh (not an input symbol) and unique to this operation.
+    let (a, b) = (x.sin(), x.sin());
+    let (sa, sb) = (a.terms().last().unwrap().0, b.terms().last().unwrap().0);
+    assert!(sa >= 64 && sb >= 64 && sa != sb);
+}
