@@ -3,10 +3,14 @@
 //! - [`counter`]: operation counting over the real model code.
 //! - [`paper`]: the paper's Table 1, to print beside ours.
 //! - [`chart`]: the log-scale bar chart.
+//! - [`table1`]: the paper's Table 1 regenerated.
 //! - [`tightness`]: computed range width over sampled true width.
+//! - [`scaling`]: cost as the resolution doubles, with and without culling.
 //! - [`rng`]: a small reproducible generator for sampling.
 pub mod chart;
 pub mod counter;
 pub mod paper;
 pub mod rng;
+pub mod scaling;
+pub mod table1;
 pub mod tightness;

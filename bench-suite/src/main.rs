@@ -1,1 +1,205 @@
-fn main() {}
+//! `bench-suite`: regenerates the paper's Table 1 and the studies past it.
+//!
+//! ```text
+//! bench-suite table1 [--full] [--scale F] [--models a,b] [--arith ia,aa,raa,revaa]
+//!                    [--budget SECONDS] [--repeats N] [--culling] [--out DIR]
+//! bench-suite tightness [--models a,b] [--arith ...] [--samples N] [--out DIR]
+//! bench-suite scaling [--models a,b] [--arith revaa] [--base-scale F] [--steps N] [--out DIR]
+//! ```
+
+use bench_suite::{scaling, table1, tightness};
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Duration;
+use tracer::models::PaperModel;
+
+#[derive(Parser)]
+#[command(
+    name = "bench-suite",
+    about = "Regenerates the revised-affine paper's Table 1 and more"
+)]
+struct Cli {
+    #[command(subcommand)]
+    cmd: Cmd,
+}
+
+#[derive(Subcommand)]
+enum Cmd {
+    /// The paper's Table 1: time, operation counts and range evaluations per model and
+    /// arithmetic, with the paper's numbers beside ours.
+    Table1 {
+        /// The paper's resolutions (default: scaled down by --scale).
+        #[arg(long)]
+        full: bool,
+        /// Fraction of the paper's resolution per axis (ignored with --full).
+        #[arg(long, default_value_t = table1::DEFAULT_SCALE)]
+        scale: f64,
+        /// Comma-separated model names (default: every Appendix A model).
+        #[arg(long)]
+        models: Option<String>,
+        /// Comma-separated arithmetics (default: ia,aa,raa,revaa).
+        #[arg(long)]
+        arith: Option<String>,
+        /// Per-cell time budget in seconds (default 10, or 600 with --full).
+        #[arg(long)]
+        budget: Option<f64>,
+        /// Interleaved rounds; the median is reported.
+        #[arg(long, default_value_t = 3)]
+        repeats: usize,
+        /// Turn on cell culling (the paper's CPU timings have none).
+        #[arg(long)]
+        culling: bool,
+        /// Output directory.
+        #[arg(long, default_value = "bench-out")]
+        out: PathBuf,
+    },
+    /// Mean ratio of computed range width to the sampled true range width.
+    Tightness {
+        #[arg(long)]
+        models: Option<String>,
+        #[arg(long)]
+        arith: Option<String>,
+        /// Random cells and segments per model and size.
+        #[arg(long, default_value_t = 40)]
+        samples: usize,
+        #[arg(long, default_value = "bench-out")]
+        out: PathBuf,
+    },
+    /// Time and range evaluations as the resolution doubles, with and without culling.
+    Scaling {
+        /// Comma-separated model names (default: mitchell,sphere-noise).
+        #[arg(long)]
+        models: Option<String>,
+        /// One arithmetic.
+        #[arg(long, default_value = "revaa")]
+        arith: String,
+        /// Scale of the first step.
+        #[arg(long, default_value_t = 0.0625)]
+        base_scale: f64,
+        #[arg(long, default_value_t = 4)]
+        steps: usize,
+        /// Per-render time budget in seconds.
+        #[arg(long, default_value_t = 60.0)]
+        budget: f64,
+        #[arg(long, default_value = "bench-out")]
+        out: PathBuf,
+    },
+}
+
+fn budget(secs: f64) -> Result<Duration, String> {
+    Duration::try_from_secs_f64(secs)
+        .ok()
+        .filter(|d| !d.is_zero())
+        .ok_or_else(|| format!("--budget {secs} must be a positive number of seconds"))
+}
+
+fn write_out(dir: &PathBuf, name: &str, text: &str) -> Result<(), String> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create '{}': {e}", dir.display()))?;
+    let p = dir.join(name);
+    std::fs::write(&p, text).map_err(|e| format!("cannot write '{}': {e}", p.display()))
+}
+
+fn run(cli: Cli) -> Result<(), String> {
+    match cli.cmd {
+        Cmd::Table1 {
+            full,
+            scale,
+            models,
+            arith,
+            budget: b,
+            repeats,
+            culling,
+            out,
+        } => {
+            let mut o = table1::Options::new(out);
+            o.full = full;
+            o.scale = scale;
+            if let Some(m) = models {
+                o.models = table1::parse_models(&m)?;
+            }
+            if let Some(a) = arith {
+                o.kinds = table1::parse_kinds(&a)?;
+            }
+            let default = if full {
+                table1::DEFAULT_BUDGET_FULL
+            } else {
+                table1::DEFAULT_BUDGET
+            };
+            o.budget = budget(b.unwrap_or(default))?;
+            o.repeats = repeats;
+            o.culling = culling;
+            o.verbose = true;
+            let report = table1::run(&o)?;
+            println!("{}", table1::markdown(&report));
+            eprintln!(
+                "wrote {}/table1.md, table1.csv, table1.png and the images",
+                o.out.display()
+            );
+            let dis = report.disagreements();
+            if !dis.is_empty() {
+                eprintln!("!!! {} hit-mask disagreement(s), see above", dis.len());
+            }
+            Ok(())
+        }
+        Cmd::Tightness {
+            models,
+            arith,
+            samples,
+            out,
+        } => {
+            let ms = match models {
+                Some(m) => table1::parse_models(&m)?,
+                None => PaperModel::ALL.to_vec(),
+            };
+            let kinds = match arith {
+                Some(a) => table1::parse_kinds(&a)?,
+                None => tracer::arith::ArithKind::ALL.to_vec(),
+            };
+            if samples == 0 {
+                return Err("--samples must be at least 1".into());
+            }
+            let s = tightness::Settings {
+                samples,
+                ..tightness::Settings::default()
+            };
+            let models: Vec<_> = ms.iter().map(|m| m.model()).collect();
+            let md = tightness::run(&models, &kinds, &s);
+            println!("{md}");
+            write_out(&out, "tightness.md", &md)
+        }
+        Cmd::Scaling {
+            models,
+            arith,
+            base_scale,
+            steps,
+            budget: b,
+            out,
+        } => {
+            let mut o = scaling::Options {
+                base_scale,
+                steps,
+                budget: budget(b)?,
+                ..Default::default()
+            };
+            if let Some(m) = models {
+                o.models = table1::parse_models(&m)?;
+            }
+            o.kind = arith.parse()?;
+            let pts = scaling::measure(&o)?;
+            let md = scaling::markdown(&o, &pts);
+            println!("{md}");
+            write_out(&out, "scaling.md", &md)
+        }
+    }
+}
+
+fn main() -> ExitCode {
+    match run(Cli::parse()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

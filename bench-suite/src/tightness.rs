@@ -208,7 +208,9 @@ pub fn segment_range<A: Arithmetic, S: Shape + ?Sized>(
 
 /// Whether a point sample set is degenerate (no spread to compare against).
 fn flat(lo: f64, hi: f64) -> bool {
-    !(hi - lo > 1e-12 * (1.0 + lo.abs().max(hi.abs())))
+    // Written so that NaN spreads count as flat.
+    (hi - lo).partial_cmp(&(1e-12 * (1.0 + lo.abs().max(hi.abs()))))
+        != Some(core::cmp::Ordering::Greater)
 }
 
 /// Ratios of one model over `kinds`, for cells (`.0`) and segments (`.1`) of each size.

@@ -1,0 +1,752 @@
+//! `bench-suite table1`: the paper's Table 1 regenerated from the tracer.
+//!
+//! For each Appendix A model (paper order), each arithmetic renders the model's default
+//! view; the arithmetics are interleaved per model and the whole round is repeated, so
+//! slow drift (thermal, other load) hits all of them alike; the median wall time is
+//! reported. A render that runs past the per-cell budget is stopped (the tracer stops
+//! starting new tiles; tiles in flight finish) and shown as `> N s`; it is not repeated.
+//!
+//! Like the paper's CPU renderer, primary rays only, no shadows, argument pruning on and
+//! cell culling off (the paper: "we do not use cell culling in the CPU renderer");
+//! `--culling` turns it on.
+
+use crate::chart::{self, Bar, Group};
+use crate::counter::{count_ops, Counter, OpCounts};
+use crate::paper::{self, PaperRow};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+use tracer::arith::ArithKind;
+use tracer::models::PaperModel;
+use tracer::render::{render_kind, RenderOptions, RenderResult};
+use tracer::shape::Shape;
+
+/// Default fraction of the paper's resolution per axis.
+pub const DEFAULT_SCALE: f64 = 0.125;
+/// Default per-cell budget in seconds (without `--full`).
+pub const DEFAULT_BUDGET: f64 = 10.0;
+/// Default per-cell budget in seconds with `--full`.
+pub const DEFAULT_BUDGET_FULL: f64 = 600.0;
+
+/// What to run.
+#[derive(Clone, Debug)]
+pub struct Options {
+    /// The paper's resolutions (ignores `scale`).
+    pub full: bool,
+    /// Fraction of the paper's resolution per axis.
+    pub scale: f64,
+    /// Models to run (tracer names), in the paper's order whatever the order given.
+    pub models: Vec<PaperModel>,
+    pub kinds: Vec<ArithKind>,
+    /// Per-cell budget.
+    pub budget: Duration,
+    /// Rounds of interleaved renders; the median is reported.
+    pub repeats: usize,
+    /// Cell culling (Algorithm 2); the paper's CPU timings have none.
+    pub culling: bool,
+    /// Output directory.
+    pub out: PathBuf,
+    /// Print progress to stderr.
+    pub verbose: bool,
+}
+
+impl Options {
+    pub fn new(out: impl Into<PathBuf>) -> Options {
+        Options {
+            full: false,
+            scale: DEFAULT_SCALE,
+            models: PaperModel::ALL.to_vec(),
+            kinds: ArithKind::ALL.to_vec(),
+            budget: Duration::from_secs_f64(DEFAULT_BUDGET),
+            repeats: 3,
+            culling: false,
+            out: out.into(),
+            verbose: false,
+        }
+    }
+
+    /// Checks user-given values; the message says what is wrong.
+    pub fn validate(&self) -> Result<(), String> {
+        if !(self.scale > 0.0 && self.scale <= 16.0) {
+            return Err(format!("--scale {} must be in (0, 16]", self.scale));
+        }
+        if self.models.is_empty() {
+            return Err("no models selected".into());
+        }
+        if self.kinds.is_empty() {
+            return Err("no arithmetics selected".into());
+        }
+        if self.budget.is_zero() {
+            return Err("--budget must be positive".into());
+        }
+        if self.repeats == 0 {
+            return Err("--repeats must be at least 1".into());
+        }
+        Ok(())
+    }
+}
+
+/// Parses a comma-separated model list (tracer names of Appendix A models).
+pub fn parse_models(s: &str) -> Result<Vec<PaperModel>, String> {
+    let mut out = Vec::new();
+    for name in s.split(',').map(str::trim).filter(|n| !n.is_empty()) {
+        let m = PaperModel::ALL
+            .into_iter()
+            .find(|m| m.name().eq_ignore_ascii_case(name))
+            .ok_or_else(|| {
+                let names: Vec<_> = PaperModel::ALL.iter().map(|m| m.name()).collect();
+                format!(
+                    "unknown model '{name}' (expected one of: {})",
+                    names.join(", ")
+                )
+            })?;
+        if !out.contains(&m) {
+            out.push(m);
+        }
+    }
+    // The paper's order, whatever order was given.
+    out.sort_by_key(|m| PaperModel::ALL.iter().position(|p| p == m));
+    Ok(out)
+}
+
+/// Parses a comma-separated arithmetic list.
+pub fn parse_kinds(s: &str) -> Result<Vec<ArithKind>, String> {
+    let mut out = Vec::new();
+    for name in s.split(',').map(str::trim).filter(|n| !n.is_empty()) {
+        let k: ArithKind = name.parse()?;
+        if !out.contains(&k) {
+            out.push(k);
+        }
+    }
+    out.sort();
+    Ok(out)
+}
+
+/// One arithmetic on one model.
+#[derive(Clone, Debug)]
+pub struct Cell {
+    pub kind: ArithKind,
+    /// Wall time of every completed run, seconds.
+    pub runs: Vec<f64>,
+    /// Median of `runs` (or the time when stopped).
+    pub seconds: f64,
+    /// Stopped by the budget: `seconds` is a lower bound.
+    pub stopped: bool,
+    /// Range evaluations along rays and on culling cells, of one render.
+    pub ray_evals: u64,
+    pub cell_evals: u64,
+    pub hits: u64,
+    pub pixels: u64,
+    /// Pixels whose hit flag differs from the reference arithmetic's.
+    pub mask_diff: Option<usize>,
+}
+
+impl Cell {
+    /// Range evaluations (rays and cells) per pixel.
+    pub fn evals_per_pixel(&self) -> f64 {
+        (self.ray_evals + self.cell_evals) as f64 / self.pixels.max(1) as f64
+    }
+}
+
+/// One model.
+#[derive(Clone, Debug)]
+pub struct Row {
+    pub model: PaperModel,
+    pub width: u32,
+    pub height: u32,
+    pub ops: OpCounts,
+    pub paper: Option<&'static PaperRow>,
+    pub cells: Vec<Cell>,
+    /// The arithmetic whose hit mask the others are compared with.
+    pub reference: Option<ArithKind>,
+}
+
+impl Row {
+    pub fn cell(&self, k: ArithKind) -> Option<&Cell> {
+        self.cells.iter().find(|c| c.kind == k)
+    }
+    /// Time ratio to RevAA measured in this run (`None` if either is missing or RevAA
+    /// was stopped).
+    pub fn ratio_to_revaa(&self, k: ArithKind) -> Option<f64> {
+        let r = self.cell(ArithKind::Revaa)?;
+        let c = self.cell(k)?;
+        (!r.stopped && r.seconds > 0.0).then(|| c.seconds / r.seconds)
+    }
+    /// Our speed-up over the paper for arithmetic `k`: the paper's seconds divided by ours
+    /// scaled linearly in pixel count to the paper's resolution.
+    pub fn speedup(&self, k: ArithKind) -> Option<f64> {
+        let p = self.paper?;
+        let i = ArithKind::ALL.iter().position(|&a| a == k)?;
+        let ps = p.seconds[i]?;
+        let c = self.cell(k)?;
+        let ours_at_paper_res = c.seconds * (p.width as f64 * p.height as f64)
+            / (self.width as f64 * self.height as f64);
+        (ours_at_paper_res > 0.0).then(|| ps / ours_at_paper_res)
+    }
+}
+
+/// Everything one `table1` run measured.
+#[derive(Clone, Debug)]
+pub struct Report {
+    pub rows: Vec<Row>,
+    pub kinds: Vec<ArithKind>,
+    pub opts: Options,
+    pub total: Duration,
+}
+
+impl Report {
+    /// Every (model, arithmetic, pixels differing) hit-mask disagreement.
+    pub fn disagreements(&self) -> Vec<(PaperModel, ArithKind, ArithKind, usize)> {
+        let mut v = Vec::new();
+        for r in &self.rows {
+            for c in &r.cells {
+                if let (Some(n), Some(rk)) = (c.mask_diff, r.reference) {
+                    if n > 0 {
+                        v.push((r.model, c.kind, rk, n));
+                    }
+                }
+            }
+        }
+        v
+    }
+}
+
+/// The counts of one evaluation of `m` over [`Counter`]s.
+pub fn op_counts(m: PaperModel) -> OpCounts {
+    count_ops(|| m.eval(Counter(0.3), Counter(0.2), Counter(0.1))).1
+}
+
+fn median(v: &[f64]) -> f64 {
+    let mut s = v.to_vec();
+    s.sort_by(f64::total_cmp);
+    let n = s.len();
+    if n == 0 {
+        f64::NAN
+    } else if n % 2 == 1 {
+        s[n / 2]
+    } else {
+        0.5 * (s[n / 2 - 1] + s[n / 2])
+    }
+}
+
+/// The resolution a model is rendered at.
+pub fn resolution(m: PaperModel, full: bool, scale: f64) -> (u32, u32) {
+    let (w, h) = m.table1_size();
+    if full {
+        (w, h)
+    } else {
+        let s = |v: u32| ((v as f64 * scale).round() as u32).max(4);
+        (s(w), s(h))
+    }
+}
+
+/// Renders one model in one arithmetic under a budget.
+pub fn render_once(
+    m: PaperModel,
+    kind: ArithKind,
+    (w, h): (u32, u32),
+    budget: Duration,
+    culling: bool,
+) -> Result<RenderResult, String> {
+    let model = m.model();
+    let mut o = RenderOptions::new(&model, w, h);
+    o.culling = culling;
+    o.pruning = true;
+    o.shadows = false;
+    o.progress = false;
+    o.deadline = Some(Instant::now() + budget);
+    render_kind(kind, &m, &o)
+}
+
+/// Runs the table, writes every output file into `opts.out`, returns what it measured.
+pub fn run(opts: &Options) -> Result<Report, String> {
+    opts.validate()?;
+    std::fs::create_dir_all(&opts.out)
+        .map_err(|e| format!("cannot create '{}': {e}", opts.out.display()))?;
+    let start = Instant::now();
+    let mut rows = Vec::new();
+    for &m in &opts.models {
+        let (w, h) = resolution(m, opts.full, opts.scale);
+        if opts.verbose {
+            eprintln!("{} at {w}x{h}", m.name());
+        }
+        let mut cells: Vec<Cell> = opts
+            .kinds
+            .iter()
+            .map(|&kind| Cell {
+                kind,
+                runs: Vec::new(),
+                seconds: 0.0,
+                stopped: false,
+                ray_evals: 0,
+                cell_evals: 0,
+                hits: 0,
+                pixels: w as u64 * h as u64,
+                mask_diff: None,
+            })
+            .collect();
+        let mut masks: Vec<Option<Vec<bool>>> = vec![None; opts.kinds.len()];
+        for rep in 0..opts.repeats {
+            // Rotate the order each round so no arithmetic always runs first.
+            let n = opts.kinds.len();
+            for step in 0..n {
+                let k = (step + rep) % n;
+                let kind = opts.kinds[k];
+                if cells[k].stopped {
+                    continue;
+                }
+                let res = render_once(m, kind, (w, h), opts.budget, opts.culling)?;
+                let secs = res.stats.wall.as_secs_f64();
+                let c = &mut cells[k];
+                if res.stats.cut {
+                    c.stopped = true;
+                    c.runs.clear();
+                    c.seconds = secs.max(opts.budget.as_secs_f64());
+                } else {
+                    c.runs.push(secs);
+                }
+                if opts.verbose {
+                    eprintln!(
+                        "  {:>6} {:8.3} s{}",
+                        kind.label(),
+                        secs,
+                        if res.stats.cut {
+                            " (stopped by budget)"
+                        } else {
+                            ""
+                        }
+                    );
+                }
+                if rep == 0 {
+                    c.ray_evals = res.stats.range_evals;
+                    c.cell_evals = res.stats.cell_evals;
+                    c.hits = res.stats.hits;
+                    let path = opts.out.join(format!("{}-{}.png", m.name(), kind.name()));
+                    tracer::output::write_png(&path, res.width, res.height, &res.rgb)?;
+                    if !res.stats.cut {
+                        masks[k] = Some(res.hit);
+                    }
+                }
+            }
+        }
+        for c in &mut cells {
+            if !c.stopped {
+                c.seconds = median(&c.runs);
+            }
+        }
+        // Cross-check hit masks against RevAA (or the first arithmetic that finished).
+        let reference = opts
+            .kinds
+            .iter()
+            .position(|&k| k == ArithKind::Revaa)
+            .filter(|&i| masks[i].is_some())
+            .or_else(|| masks.iter().position(Option::is_some));
+        if let Some(r) = reference {
+            let rm = masks[r].clone().unwrap_or_default();
+            for (k, mask) in masks.iter().enumerate() {
+                if let Some(mask) = mask {
+                    let diff = mask.iter().zip(&rm).filter(|(a, b)| a != b).count();
+                    cells[k].mask_diff = Some(diff);
+                    if diff > 0 {
+                        eprintln!(
+                            "!!! HIT MASK DISAGREEMENT: {} {} vs {}: {diff} of {} pixels differ",
+                            m.name(),
+                            opts.kinds[k].label(),
+                            opts.kinds[r].label(),
+                            rm.len()
+                        );
+                    }
+                }
+            }
+        }
+        rows.push(Row {
+            model: m,
+            width: w,
+            height: h,
+            ops: op_counts(m),
+            paper: paper::find(m.name()),
+            cells,
+            reference: reference.map(|r| opts.kinds[r]),
+        });
+    }
+    let report = Report {
+        rows,
+        kinds: opts.kinds.clone(),
+        opts: opts.clone(),
+        total: start.elapsed(),
+    };
+    let md = markdown(&report);
+    write(&opts.out.join("table1.md"), md.as_bytes())?;
+    write(&opts.out.join("table1.csv"), csv(&report).as_bytes())?;
+    draw_chart(&report, &opts.out.join("table1.png"))?;
+    Ok(report)
+}
+
+fn write(path: &Path, bytes: &[u8]) -> Result<(), String> {
+    std::fs::write(path, bytes).map_err(|e| format!("cannot write '{}': {e}", path.display()))
+}
+
+fn fmt_secs(c: &Cell) -> String {
+    if c.stopped {
+        format!("> {:.0} s", c.seconds.floor().max(1.0))
+    } else if c.seconds >= 100.0 {
+        format!("{:.0}", c.seconds)
+    } else if c.seconds >= 1.0 {
+        format!("{:.2}", c.seconds)
+    } else {
+        format!("{:.3}", c.seconds)
+    }
+}
+
+fn fmt_paper_secs(p: Option<f64>) -> String {
+    match p {
+        Some(s) => format!("{s}"),
+        None => ">50000".into(),
+    }
+}
+
+/// Seconds since the Unix epoch as `YYYY-MM-DD HH:MM UTC` (no date crate needed).
+pub fn utc_now() -> String {
+    let secs = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map(|d| d.as_secs() as i64)
+        .unwrap_or(0);
+    let (days, rem) = (secs.div_euclid(86_400), secs.rem_euclid(86_400));
+    // Howard Hinnant's civil-from-days.
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = doy - (153 * mp + 2) / 5 + 1;
+    let mo = if mp < 10 { mp + 3 } else { mp - 9 };
+    let y = yoe + era * 400 + i64::from(mo <= 2);
+    format!(
+        "{y:04}-{mo:02}-{d:02} {:02}:{:02} UTC",
+        rem / 3600,
+        rem % 3600 / 60
+    )
+}
+
+/// The report as Markdown: the table, range evaluations, and the paper beside us.
+pub fn markdown(r: &Report) -> String {
+    let o = &r.opts;
+    let mut s = String::new();
+    let cores = std::thread::available_parallelism()
+        .map(|n| n.get())
+        .unwrap_or(1);
+    let _ = writeln!(s, "## Table 1: ray-tracing time per arithmetic\n");
+    let _ = writeln!(
+        s,
+        "{} · {cores} cores · {} · budget {:.0} s per cell · median of {} interleaved runs · \
+         cell culling {} · primary rays, argument pruning on · total {:.0} s\n",
+        utc_now(),
+        if o.full {
+            "paper resolutions (--full)".to_string()
+        } else {
+            format!("scale {}", o.scale)
+        },
+        o.budget.as_secs_f64(),
+        o.repeats,
+        if o.culling {
+            "on"
+        } else {
+            "off (as the paper's CPU renderer)"
+        },
+        r.total.as_secs_f64()
+    );
+    // Main table.
+    let mut head = String::from("| Model | Resolution | Ops ours (All / NA / Mul) | Ops paper |");
+    let mut rule = String::from("|---|---|---|---|");
+    for k in &r.kinds {
+        let _ = write!(head, " {} s |", k.label());
+        rule.push_str("---:|");
+    }
+    if r.kinds.contains(&ArithKind::Revaa) {
+        for k in r.kinds.iter().filter(|&&k| k != ArithKind::Revaa) {
+            let _ = write!(head, " {}/RevAA |", k.label());
+            rule.push_str("---:|");
+        }
+    }
+    head.push_str(" Hit masks |");
+    rule.push_str("---|");
+    let _ = writeln!(s, "{head}\n{rule}");
+    for row in &r.rows {
+        let label = row.paper.map_or(row.model.name(), |p| p.label);
+        let paper_ops = row.paper.map_or("n/a".to_string(), |p| p.ops.to_string());
+        let _ = write!(
+            s,
+            "| {label} | {}x{} | {} | {paper_ops} |",
+            row.width, row.height, row.ops
+        );
+        for c in &row.cells {
+            let _ = write!(s, " {} |", fmt_secs(c));
+        }
+        if r.kinds.contains(&ArithKind::Revaa) {
+            for k in r.kinds.iter().filter(|&&k| k != ArithKind::Revaa) {
+                match (row.ratio_to_revaa(*k), row.cell(*k)) {
+                    (Some(x), Some(c)) if c.stopped => {
+                        let _ = write!(s, " > {x:.2} |");
+                    }
+                    (Some(x), _) => {
+                        let _ = write!(s, " {x:.2} |");
+                    }
+                    _ => s.push_str(" n/a |"),
+                }
+            }
+        }
+        let _ = writeln!(s, " {} |", mask_summary(row));
+    }
+    if !o.models.is_empty() && o.models.len() == PaperModel::ALL.len() {
+        if let Some(p) = paper::TABLE1.iter().find(|p| p.label == "Virtual Shikki") {
+            let _ = write!(s, "| {} | n/a | n/a | {} |", p.label, p.ops);
+            for _ in &r.kinds {
+                s.push_str(" n/a |");
+            }
+            if r.kinds.contains(&ArithKind::Revaa) {
+                for _ in 1..r.kinds.len() {
+                    s.push_str(" n/a |");
+                }
+            }
+            let _ = writeln!(s, " source not available |");
+        }
+    }
+    // Range evaluations.
+    let _ = writeln!(
+        s,
+        "\n### Range evaluations per pixel (rays + culling cells)\n"
+    );
+    let mut head = String::from("| Model |");
+    let mut rule = String::from("|---|");
+    for k in &r.kinds {
+        let _ = write!(head, " {} |", k.label());
+        rule.push_str("---:|");
+    }
+    let _ = writeln!(s, "{head}\n{rule}");
+    for row in &r.rows {
+        let _ = write!(s, "| {} |", row.model.name());
+        for c in &row.cells {
+            let stop = if c.stopped { " (stopped)" } else { "" };
+            let _ = write!(s, " {:.1}{stop} |", c.evals_per_pixel());
+        }
+        s.push('\n');
+    }
+    // The paper beside us.
+    let _ = writeln!(
+        s,
+        "\n### The paper beside us (Pentium 4 3.2 GHz, POV-Ray, paper resolution)\n\n\
+         Speed-up = paper seconds / our seconds scaled linearly in pixel count to the paper's \
+         resolution{}.\n",
+        if o.full {
+            " (here the same resolution)"
+        } else {
+            ""
+        }
+    );
+    let mut head = String::from("| Model | Paper resolution |");
+    let mut rule = String::from("|---|---|");
+    for k in &r.kinds {
+        let _ = write!(head, " {} paper s | {} speed-up |", k.label(), k.label());
+        rule.push_str("---:|---:|");
+    }
+    let _ = writeln!(s, "{head}\n{rule}");
+    for row in &r.rows {
+        let Some(p) = row.paper else {
+            continue;
+        };
+        let _ = write!(s, "| {} | {}x{} |", p.label, p.width, p.height);
+        for k in &r.kinds {
+            let i = ArithKind::ALL.iter().position(|a| a == k).unwrap_or(0);
+            let sp = match (row.speedup(*k), row.cell(*k)) {
+                (Some(x), Some(c)) if c.stopped => format!("< {x:.0}x"),
+                (Some(x), _) if x >= 10.0 => format!("{x:.0}x"),
+                (Some(x), _) => format!("{x:.1}x"),
+                _ => "n/a".into(),
+            };
+            let _ = write!(s, " {} | {sp} |", fmt_paper_secs(p.seconds[i]));
+        }
+        s.push('\n');
+    }
+    let dis = r.disagreements();
+    if dis.is_empty() {
+        let _ = writeln!(
+            s,
+            "\nHit masks: every arithmetic that finished agrees pixel for pixel."
+        );
+    } else {
+        let _ = writeln!(s, "\n**HIT MASK DISAGREEMENTS**:");
+        for (m, k, rk, n) in dis {
+            let _ = writeln!(
+                s,
+                "- {}: {} vs {}: {n} pixels",
+                m.name(),
+                k.label(),
+                rk.label()
+            );
+        }
+    }
+    s
+}
+
+fn mask_summary(row: &Row) -> String {
+    let Some(rk) = row.reference else {
+        return "not checked (all stopped)".into();
+    };
+    let bad: Vec<String> = row
+        .cells
+        .iter()
+        .filter_map(|c| match c.mask_diff {
+            Some(n) if n > 0 => Some(format!("{} {n} px", c.kind.label())),
+            _ => None,
+        })
+        .collect();
+    let unchecked = row.cells.iter().filter(|c| c.mask_diff.is_none()).count();
+    let mut out = if bad.is_empty() {
+        format!("agree (vs {})", rk.label())
+    } else {
+        format!("**DIFFER** vs {}: {}", rk.label(), bad.join(", "))
+    };
+    if unchecked > 0 {
+        let _ = write!(out, "; {unchecked} stopped, unchecked");
+    }
+    out
+}
+
+/// The report as CSV, one line per (model, arithmetic).
+pub fn csv(r: &Report) -> String {
+    let mut s = String::from(
+        "model,arith,width,height,ops_all,ops_nonaffine,ops_mul,paper_ops_all,paper_ops_nonaffine,\
+         paper_ops_mul,seconds_median,runs,stopped,budget_s,range_evals_per_pixel,ray_evals,cell_evals,\
+         hits,ratio_to_revaa,paper_width,paper_height,paper_seconds,speedup_vs_paper,mask_reference,\
+         mask_diff_pixels\n",
+    );
+    for row in &r.rows {
+        for c in &row.cells {
+            let p = row.paper;
+            let i = ArithKind::ALL
+                .iter()
+                .position(|&a| a == c.kind)
+                .unwrap_or(0);
+            let opt = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x}"));
+            let runs: Vec<String> = c.runs.iter().map(|x| format!("{x:.6}")).collect();
+            let _ = writeln!(
+                s,
+                "{},{},{},{},{},{},{},{},{},{},{:.6},{},{},{},{:.3},{},{},{},{},{},{},{},{},{},{}",
+                row.model.name(),
+                c.kind.name(),
+                row.width,
+                row.height,
+                row.ops.all,
+                row.ops.non_affine,
+                row.ops.mul,
+                p.map_or(String::new(), |p| p.ops.all.to_string()),
+                p.map_or(String::new(), |p| p.ops.non_affine.to_string()),
+                p.map_or(String::new(), |p| p.ops.mul.to_string()),
+                c.seconds,
+                runs.join(" "),
+                c.stopped,
+                r.opts.budget.as_secs_f64(),
+                c.evals_per_pixel(),
+                c.ray_evals,
+                c.cell_evals,
+                c.hits,
+                opt(row.ratio_to_revaa(c.kind)),
+                p.map_or(String::new(), |p| p.width.to_string()),
+                p.map_or(String::new(), |p| p.height.to_string()),
+                opt(p.and_then(|p| p.seconds[i])),
+                opt(row.speedup(c.kind)),
+                row.reference.map_or("", |k| k.name()),
+                c.mask_diff.map_or(String::new(), |n| n.to_string()),
+            );
+        }
+    }
+    s
+}
+
+fn draw_chart(r: &Report, path: &Path) -> Result<(), String> {
+    let labels: Vec<&str> = r.kinds.iter().map(|k| k.label()).collect();
+    let groups: Vec<Group> = r
+        .rows
+        .iter()
+        .map(|row| Group {
+            label: row.model.name().to_string(),
+            bars: row
+                .cells
+                .iter()
+                .map(|c| {
+                    Some(Bar {
+                        seconds: c.seconds,
+                        stopped: c.stopped,
+                    })
+                })
+                .collect(),
+        })
+        .collect();
+    let title = format!(
+        "Ray-tracing time per model and arithmetic ({}; hollow = stopped by budget)",
+        if r.opts.full {
+            "paper resolutions".to_string()
+        } else {
+            format!("scale {}", r.opts.scale)
+        }
+    );
+    chart::bar_chart(path, &title, &labels, &groups).map(|_| ())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn op_counts_match_the_paper_where_the_formula_is_the_papers() {
+        // Non-affine and multiplication counts of the algebraic models do not depend on
+        // how sums are grouped.
+        let m = op_counts(PaperModel::Mitchell);
+        assert_eq!((m.non_affine, m.mul), (6, 6));
+    }
+
+    #[test]
+    fn lists_parse_and_reject_unknown_names() {
+        let m = parse_models("sphere-noise, mitchell").unwrap();
+        assert_eq!(m, vec![PaperModel::Mitchell, PaperModel::SphereNoise]);
+        assert!(parse_models("mitchell,teapot")
+            .unwrap_err()
+            .contains("teapot"));
+        assert_eq!(
+            parse_kinds("revaa,ia").unwrap(),
+            vec![ArithKind::Ia, ArithKind::Revaa]
+        );
+        assert!(parse_kinds("ia,xx").is_err());
+    }
+
+    #[test]
+    fn resolution_scales_and_keeps_a_minimum() {
+        assert_eq!(resolution(PaperModel::Mitchell, true, 0.1), (1280, 1024));
+        assert_eq!(resolution(PaperModel::Mitchell, false, 0.5), (640, 512));
+        assert_eq!(resolution(PaperModel::Csg, false, 0.0001), (4, 4));
+    }
+
+    #[test]
+    fn bad_options_are_errors() {
+        let mut o = Options::new("/tmp/x");
+        o.scale = 0.0;
+        assert!(o.validate().is_err());
+        o.scale = 0.1;
+        o.repeats = 0;
+        assert!(o.validate().is_err());
+    }
+
+    #[test]
+    fn utc_date_is_well_formed() {
+        let d = utc_now();
+        assert_eq!(d.len(), "2026-01-01 00:00 UTC".len());
+        assert!(d.starts_with("20"));
+    }
+
+    #[test]
+    fn median_of_even_and_odd() {
+        assert_eq!(median(&[3.0, 1.0, 2.0]), 2.0);
+        assert_eq!(median(&[4.0, 1.0, 2.0, 3.0]), 2.5);
+    }
+}
