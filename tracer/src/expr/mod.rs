@@ -16,6 +16,17 @@
 //!   `b = 0.36 - x^2; s = 0.7 - x^2 - y^2; b | s`;
 //! - whitespace and newlines are ignored, `#` starts a comment to the end of the line.
 //!
+//! Decimal literals round to the nearest `f64`, exactly like the same literal in Rust
+//! source, so a formula and a hand-written model denote the same function. Constant
+//! subexpressions are folded only where the `f64` result is exact, so range evaluation
+//! of the tape encloses the formula's real value (see [`Tape`]).
+//!
+//! API: [`parse`] (text to tape), or [`parse_program`] (text to [`Program`], which
+//! prints back as text) then [`Tape::compile`]. Errors: [`ParseError`] with a 0-based
+//! character `pos`, 1-based `line`/`column`, `Display` (`error at column 7: ...`) and
+//! [`ParseError::render`] (the line with a caret under the position). A tape prints as
+//! an instruction listing (`Display`) or back as a formula ([`Tape::to_formula`]).
+//!
 //! ```
 //! use tracer::expr::parse;
 //! let t = parse("s = 1 - x^2 - y^2 - z^2; s & -z").unwrap();
