@@ -240,6 +240,7 @@ impl<R: Real> Sub for Dual<R> {
 }
 impl<R: Real> Mul for Dual<R> {
     type Output = Self;
+    #[allow(clippy::suspicious_arithmetic_impl)] // the product rule
     fn mul(self, o: Self) -> Self {
         let g = std::array::from_fn(|j| {
             self.g[j].clone() * o.v.clone() + o.g[j].clone() * self.v.clone()
@@ -249,6 +250,7 @@ impl<R: Real> Mul for Dual<R> {
 }
 impl<R: Real> Div for Dual<R> {
     type Output = Self;
+    #[allow(clippy::suspicious_arithmetic_impl)] // the quotient rule
     fn div(self, o: Self) -> Self {
         let q = self.v.clone() / o.v.clone();
         let g =

@@ -71,6 +71,8 @@ pub enum ConeEnd {
 /// [`Bounded::radius`], condition (4) `ε_i > t_i tan α`, the offsets (5) and condition
 /// (6) `t_{i+1} - t_i < Δt⁻_{i+1} + Δt⁺_i`, which must *hold* for the step to be taken
 /// (the text's reading; the figure prints the test with the opposite outcome).
+// `!(a > b)` on purpose: a NaN radius must fail condition (4).
+#[allow(clippy::neg_cmp_op_on_partial_ord)]
 pub fn trace_cone<S: Shape + ?Sized>(
     b: &Bounded<S>,
     o: DVec3,
@@ -175,7 +177,7 @@ pub fn prime_factors_desc(mut n: u32) -> Vec<u32> {
     let mut f = Vec::new();
     let mut p = 2;
     while p * p <= n {
-        while n % p == 0 {
+        while n.is_multiple_of(p) {
             f.push(p);
             n /= p;
         }
@@ -741,6 +743,7 @@ pub enum Caster {
 
 /// A conventional Lipschitz ray casting of the whole image (one ray per pixel centre):
 /// the depth of each pixel (`+inf` for a miss) and the point evaluations.
+#[allow(clippy::too_many_arguments)]
 pub fn raycast<S: Shape + ?Sized>(
     shape: &S,
     domain: Aabb,

@@ -1,11 +1,205 @@
-//! The live preview window (to be written).
-use super::{Engine, PreviewArgs};
-use crate::shape::Shape;
+//! The live preview (Section 3.5): a refinement thread and a display thread sharing the
+//! image buffer ([`super::SharedImage`], relaxed atomics, no locks).
+//!
+//! The display thread (this one: X11 windows belong to the thread that made them) shows
+//! the buffer at a steady frame rate and edits the region of interest: drag with the
+//! left button to set it, right-click to cancel it. Esc or closing the window stops the
+//! refinement. The image is written to `--out` when refinement completes and when it is
+//! stopped early. Ctrl-C cannot be caught without a signal crate (none is allowed), so in
+//! window mode `--out` is also checkpointed every few seconds: an interrupt loses at
+//! most the last few seconds of refinement.
 
-/// Runs the two-thread live preview.
-pub fn run_window<S: Shape + 'static>(
-    _engine: Engine<S>,
-    _args: &PreviewArgs,
-) -> Result<(), String> {
-    Err("the preview window is not available yet: use --headless".into())
+use super::{write_png, Engine, PreviewArgs, Rect, SharedImage, Stats};
+use crate::shape::Shape;
+use minifb::{Key, MouseButton, MouseMode, Window, WindowOptions};
+use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc;
+use std::sync::Arc;
+use std::thread;
+use std::time::Instant;
+
+/// Messages from the display thread to the refinement thread.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Command {
+    SetRoi(Rect),
+    CancelRoi,
+}
+
+/// Seconds between checkpoints of `--out` while the window is open.
+const CHECKPOINT_S: f64 = 5.0;
+
+/// The refinement thread: steps the engine until done or told to stop, applying ROI
+/// commands between samples. Returns the engine's counters and whether it completed.
+fn refine<S: Shape>(
+    mut engine: Engine<S>,
+    stop: Arc<AtomicBool>,
+    done: Arc<AtomicBool>,
+    roi_active: Arc<AtomicBool>,
+    rx: mpsc::Receiver<Command>,
+) -> (Stats, bool) {
+    while !stop.load(Ordering::Relaxed) {
+        while let Ok(c) = rx.try_recv() {
+            match c {
+                Command::SetRoi(r) => {
+                    let _ = engine.set_roi(r);
+                }
+                Command::CancelRoi => engine.cancel_roi(),
+            }
+        }
+        // A batch of samples between checks keeps the flag and channel overhead small.
+        for _ in 0..64 {
+            if engine.step() == super::Step::Done {
+                break;
+            }
+        }
+        roi_active.store(engine.roi().is_some(), Ordering::Relaxed);
+        if engine.is_done() {
+            done.store(true, Ordering::Relaxed);
+            return (engine.stats(), true);
+        }
+    }
+    (engine.stats(), false)
+}
+
+fn write_atomically(img: &SharedImage, out: &Path) -> Result<(), String> {
+    let ext = out.extension().and_then(|e| e.to_str()).unwrap_or("png");
+    let tmp = out.with_extension(format!("partial.{ext}"));
+    write_png(img, &tmp)?;
+    std::fs::rename(&tmp, out).map_err(|e| format!("cannot write {}: {e}", out.display()))
+}
+
+/// Draws a one-pixel white outline of `r` into `buf`.
+fn outline(buf: &mut [u32], w: u32, h: u32, r: Rect) {
+    let white = 0x00ff_ffff;
+    let (x1, y1) = (r.x1.min(w) - 1, r.y1.min(h) - 1);
+    for x in r.x0..=x1 {
+        buf[(r.y0 * w + x) as usize] = white;
+        buf[(y1 * w + x) as usize] = white;
+    }
+    for y in r.y0..=y1 {
+        buf[(y * w + r.x0) as usize] = white;
+        buf[(y * w + x1) as usize] = white;
+    }
+}
+
+/// Opens the window and runs the two threads until completion or stop.
+pub fn run_window<S: Shape + 'static>(engine: Engine<S>, args: &PreviewArgs) -> Result<(), String> {
+    if args.fps == 0 || args.fps > 240 {
+        return Err(format!("--fps must be in 1..=240, got {}", args.fps));
+    }
+    let (w, h) = engine.size();
+    let mut window = Window::new(
+        &format!("tracer preview: {}", args.model),
+        w as usize,
+        h as usize,
+        WindowOptions::default(),
+    )
+    .map_err(|e| format!("cannot open a window ({e}); use --headless"))?;
+    window.set_target_fps(args.fps as usize);
+    let image = engine.image();
+    let stop = Arc::new(AtomicBool::new(false));
+    let done = Arc::new(AtomicBool::new(false));
+    let roi_active = Arc::new(AtomicBool::new(false));
+    let (tx, rx) = mpsc::channel();
+    let start = Instant::now();
+    let worker = {
+        let (stop, done, roi_active) = (
+            Arc::clone(&stop),
+            Arc::clone(&done),
+            Arc::clone(&roi_active),
+        );
+        thread::spawn(move || refine(engine, stop, done, roi_active, rx))
+    };
+    let mut drag: Option<(u32, u32)> = None;
+    let mut roi: Option<Rect> = None;
+    let mut right_was_down = false;
+    let mut completed_written = false;
+    let mut last_checkpoint = Instant::now();
+    let mut frames = 0u64;
+    let mouse_px = |win: &Window| {
+        win.get_mouse_pos(MouseMode::Clamp)
+            .map(|(x, y)| ((x as u32).min(w - 1), (y as u32).min(h - 1)))
+    };
+    let result = loop {
+        if !window.is_open() || window.is_key_down(Key::Escape) {
+            break Ok(());
+        }
+        if args
+            .stop_after
+            .is_some_and(|s| start.elapsed().as_secs_f64() >= s)
+        {
+            break Ok(());
+        }
+        // Region of interest editing.
+        let left = window.get_mouse_down(MouseButton::Left);
+        match (left, drag, mouse_px(&window)) {
+            (true, None, Some(p)) => drag = Some(p),
+            (false, Some(a), Some(b)) => {
+                drag = None;
+                let r = Rect::from_corners(a, b);
+                if r.x1 - r.x0 >= 2 && r.y1 - r.y0 >= 2 {
+                    roi = Some(r);
+                    roi_active.store(true, Ordering::Relaxed);
+                    let _ = tx.send(Command::SetRoi(r));
+                }
+            }
+            _ => {}
+        }
+        let right = window.get_mouse_down(MouseButton::Right);
+        if right && !right_was_down {
+            roi = None;
+            let _ = tx.send(Command::CancelRoi);
+        }
+        right_was_down = right;
+        if roi.is_some() && !roi_active.load(Ordering::Relaxed) && drag.is_none() && frames % 8 == 7
+        {
+            // The refinement thread finished the region.
+            roi = None;
+        }
+        let mut buf = image.snapshot();
+        if let Some(r) = roi {
+            outline(&mut buf, w, h, r);
+        }
+        if let (Some(a), Some(b)) = (drag, mouse_px(&window)) {
+            outline(&mut buf, w, h, Rect::from_corners(a, b));
+        }
+        if let Err(e) = window.update_with_buffer(&buf, w as usize, h as usize) {
+            break Err(format!("window update failed: {e}"));
+        }
+        frames += 1;
+        if done.load(Ordering::Relaxed) && !completed_written {
+            completed_written = true;
+            window.set_title(&format!(
+                "tracer preview: {} (complete, {:.2} s)",
+                args.model,
+                start.elapsed().as_secs_f64()
+            ));
+            if let Some(out) = &args.out {
+                write_atomically(&image, out)?;
+            }
+        } else if !completed_written && last_checkpoint.elapsed().as_secs_f64() >= CHECKPOINT_S {
+            last_checkpoint = Instant::now();
+            if let Some(out) = &args.out {
+                write_atomically(&image, out)?;
+            }
+        }
+    };
+    stop.store(true, Ordering::Relaxed);
+    let (stats, complete) = worker
+        .join()
+        .map_err(|_| "the refinement thread panicked".to_string())?;
+    // Stopped early or complete: the latest image is written either way.
+    if let Some(out) = &args.out {
+        write_atomically(&image, out)?;
+    }
+    println!(
+        "{}: {} iterations, {} evaluations, {:.3} s, {} frames",
+        if complete { "complete" } else { "stopped" },
+        stats.iterations,
+        stats.evals,
+        start.elapsed().as_secs_f64(),
+        frames
+    );
+    result
 }

@@ -1,0 +1,69 @@
+//! Smoke test of the live preview window under a virtual X display (Xvfb). Skipped,
+//! with a message, on machines without `Xvfb`.
+
+use std::process::{Command, Stdio};
+use std::time::Duration;
+use tracer::progressive::{run_preview, PreviewArgs};
+
+fn have_xvfb() -> bool {
+    Command::new("sh")
+        .args(["-c", "command -v Xvfb"])
+        .stdout(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success())
+}
+
+#[test]
+fn window_refines_for_a_second_then_stops_and_writes_the_image() {
+    if !have_xvfb() {
+        println!("skipped: Xvfb is not installed");
+        return;
+    }
+    let display = format!(":{}", 90 + std::process::id() % 500);
+    let mut xvfb = Command::new("Xvfb")
+        .args([
+            display.as_str(),
+            "-screen",
+            "0",
+            "640x480x24",
+            "-nolisten",
+            "tcp",
+        ])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("start Xvfb");
+    std::thread::sleep(Duration::from_millis(700));
+    // This test binary holds this one test only, so setting the variable races nothing.
+    std::env::set_var("DISPLAY", &display);
+    let dir = std::env::temp_dir().join(format!("tracer-window-{}", std::process::id()));
+    let out = dir.join("stopped.png");
+    let args = PreviewArgs {
+        model: "hypertexture-5".into(),
+        width: 200,
+        height: 160,
+        lambda: None,
+        eps: 1e-4,
+        overshoot: 1.46,
+        aa: 1,
+        paper_child_start: false,
+        headless: false,
+        snapshots: None,
+        out: Some(out.clone()),
+        fps: 30,
+        stop_after: Some(1.0),
+    };
+    let r = run_preview(&args);
+    let _ = xvfb.kill();
+    let _ = xvfb.wait();
+    r.expect("window preview");
+    // Stopped after one second, before completion: the refined part is in the file.
+    let img = image::open(&out)
+        .expect("image written when stopped")
+        .to_rgb8();
+    assert_eq!(img.dimensions(), (200, 160));
+    let bg = tracer::shade::BACKGROUND;
+    let shaded = img.pixels().filter(|p| p.0 != bg).count();
+    assert!(shaded > 1000, "only {shaded} shaded pixels");
+    let _ = std::fs::remove_dir_all(&dir);
+}
