@@ -4,8 +4,10 @@
 //! operation on two `f64`s. The rounded-to-nearest result is kept as is when an
 //! error-free transformation shows it is already on the right side of the exact value,
 //! and moved one ulp outward otherwise (one rounding is at most half an ulp off).
-//! Near underflow, where the error terms themselves may be inexact, we always move
-//! outward. Overflow to `±inf` of a product of finite numbers keeps the finite side
+//! Near underflow, where the error terms themselves may be inexact, the check runs on
+//! operands scaled by `2^600`, so every lower bound is exactly the floor (and every
+//! upper bound the ceiling) of the exact result in `f64`: tight, and monotone in the
+//! exact value (which keeps interval operations inclusion-isotone). Overflow to `±inf` of a product of finite numbers keeps the finite side
 //! (`f64::MAX` is a valid lower bound of something that rounded to `+inf`).
 //!
 //! A NaN result (`inf - inf`, `0 * inf`, `inf / inf`) is returned as NaN; the caller
@@ -19,6 +21,12 @@ use arith_core::round::two_sum;
 /// `ulp(a)*ulp(b) >= 2^-1066` below `ulp(fl(a*b))`, hence an `f64`; likewise the division
 /// remainder for `|a| >= 2^-960`.)
 const TINY: f64 = f64::from_bits(63 << 52);
+
+/// `2^600`: scales near-underflow operands into the range where the checks are exact.
+const SCALE: f64 = f64::from_bits((1023 + 600) << 52);
+
+/// The smallest positive subnormal.
+const ETA: f64 = f64::from_bits(1);
 
 #[inline]
 fn finite2(a: f64, b: f64) -> bool {
@@ -66,15 +74,21 @@ pub fn mul_lo(a: f64, b: f64) -> f64 {
     if a == 0.0 || b == 0.0 {
         return p;
     }
-    if p.abs() >= TINY {
-        let e = a.mul_add(b, -p);
-        if e < 0.0 {
-            p.next_down()
-        } else {
-            p
-        }
+    // e = a*b - p exactly (see TINY); near underflow, on a copy scaled by 2^600.
+    let e = if p.abs() >= TINY {
+        a.mul_add(b, -p)
+    } else if p == 0.0 {
+        // Underflow to zero: the exact product is a nonzero tiny of the operands' sign.
+        return if (a > 0.0) == (b > 0.0) { 0.0 } else { -ETA };
     } else {
+        // Scale the smaller factor (|.| < 2^-480 as |a*b| < 2^-960): all exact.
+        let (s, t) = if a.abs() <= b.abs() { (a, b) } else { (b, a) };
+        (s * SCALE).mul_add(t, -(p * SCALE))
+    };
+    if e < 0.0 {
         p.next_down()
+    } else {
+        p
     }
 }
 
@@ -106,16 +120,24 @@ pub fn div_lo(a: f64, b: f64) -> f64 {
         // unbounded interval quotient).
         return q;
     }
-    if q.abs() >= TINY && a.abs() >= TINY {
-        // r = a - q*b exactly (no underflow here); a/b - q = r/b.
-        let r = (-q).mul_add(b, a);
-        if r != 0.0 && ((r < 0.0) != (b < 0.0)) {
-            q.next_down()
-        } else {
-            q
-        }
+    if q == 0.0 {
+        return if (a > 0.0) == (b > 0.0) { 0.0 } else { -ETA };
+    }
+    // r = a - q*b exactly (see TINY), on copies scaled by 2^600 near underflow; then
+    // a/b - q has the sign of r/b.
+    let r = if q.abs() >= TINY && a.abs() >= TINY {
+        (-q).mul_add(b, a)
+    } else if q.abs() >= TINY {
+        // a tiny, q not: b is small too; scaling both keeps q.
+        (-q).mul_add(b * SCALE, a * SCALE)
     } else {
+        // q tiny: |a| < 2^64 here, so a*2^600 and q*2^600 are exact and finite.
+        (-(q * SCALE)).mul_add(b, a * SCALE)
+    };
+    if r != 0.0 && ((r < 0.0) != (b < 0.0)) {
         q.next_down()
+    } else {
+        q
     }
 }
 
@@ -196,6 +218,31 @@ mod tests {
         assert!(div_hi(1e-300, 1e300) > 0.0);
         assert!(mul_lo(0.0, f64::INFINITY).is_nan());
         assert!(add_lo(f64::INFINITY, f64::NEG_INFINITY).is_nan());
+    }
+
+    #[test]
+    fn near_underflow_is_floor_and_ceiling() {
+        let t = f64::from_bits(1);
+        assert_eq!(mul_lo(t, 1.0), t);
+        assert_eq!(mul_hi(t, 1.0), t);
+        assert_eq!(mul_lo(t, 0.5), 0.0);
+        assert_eq!(mul_hi(t, 0.5), t);
+        assert_eq!(mul_lo(-t, 0.5), -t);
+        assert_eq!(mul_lo(3.0 * t, 0.5), t);
+        assert_eq!(mul_hi(3.0 * t, 0.5), 2.0 * t);
+        assert_eq!(mul_lo(1e-200, 1e-200), 0.0);
+        assert_eq!(mul_hi(1e-200, 1e-200), t);
+        assert_eq!(mul_lo(1e-300, -1e-300), -t);
+        assert_eq!(div_lo(t, 2.0), 0.0);
+        assert_eq!(div_hi(t, 2.0), t);
+        assert_eq!(div_lo(3.0 * t, 2.0), t);
+        assert_eq!(div_hi(3.0 * t, 2.0), 2.0 * t);
+        assert_eq!(div_lo(4.0 * t, 2.0), 2.0 * t);
+        assert_eq!(div_hi(4.0 * t, 2.0), 2.0 * t);
+        assert_eq!(div_lo(3.0 * t, 3.0 * t), 1.0);
+        assert_eq!(div_hi(3.0 * t, 3.0 * t), 1.0);
+        assert!(div_lo(t, 3.0 * t) < div_hi(t, 3.0 * t));
+        assert_eq!(div_lo(1.0, 1e300 * 1e10), 0.0);
     }
 
     #[test]

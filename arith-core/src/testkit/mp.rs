@@ -493,6 +493,18 @@ mod tests {
             s.verdict(-0.852200849767189, -0.8522008497671887),
             Verdict::Inside
         );
+        // Huge arguments (values from mpmath at 3000 bits).
+        let s = Mp::point(2f64.powi(1000)).unwrap().sin().unwrap();
+        assert_eq!(
+            s.verdict(-0.15920170308624245, -0.15920170308624242),
+            Verdict::Inside
+        );
+        assert_eq!(s.verdict(-0.1592017030862424, 1.0), Verdict::Outside);
+        let c = Mp::point(f64::MAX).unwrap().cos().unwrap();
+        assert_eq!(
+            c.verdict(-0.9999876894265600, -0.9999876894265598),
+            Verdict::Inside
+        );
         let c = Mp::point(0.0).unwrap().cos().unwrap();
         assert_eq!(c.verdict(1.0, 1.0), Verdict::Inside);
         // A non-degenerate enclosure around pi/2 must include the maximum 1.

@@ -1,0 +1,259 @@
+//! Interval-specific behaviour: outward rounding, the whole line for division by a
+//! range holding 0, clipping of even powers, exact min/max, and no NaN with infinities.
+
+use arith_core::testkit::proptest::prelude::*;
+use arith_core::testkit::{strategies, Mp, Verdict};
+use arith_core::{Arithmetic, Range, Real};
+use arith_ia::{IaArith, Interval};
+
+const INF: f64 = f64::INFINITY;
+
+fn iv(lo: f64, hi: f64) -> Interval {
+    Interval::new(lo, hi)
+}
+
+#[test]
+fn names() {
+    assert_eq!(<IaArith as Arithmetic>::NAME, "ia");
+    assert_eq!(IaArith::LABEL, "IA");
+    assert_eq!(<Interval as Range>::NAME, "ia");
+}
+
+#[test]
+fn outward_rounding_is_visible() {
+    let s = Interval::constant(0.1) + Interval::constant(0.2);
+    assert!(s.lo < s.hi, "0.1 + 0.2 is inexact: the bounds must differ");
+    // The real number 3/10, enclosed rigorously.
+    let three_tenths = Mp::point(3.0)
+        .unwrap()
+        .div(&Mp::point(10.0).unwrap())
+        .unwrap();
+    assert_eq!(three_tenths.verdict(s.lo, s.hi), Verdict::Inside);
+    // The exact sum of the two doubles lies strictly below the rounded sum, so the
+    // lower bound had to move below fl(0.1 + 0.2).
+    assert!(s.lo < 0.1 + 0.2);
+    // 1/3 is bracketed by adjacent floats.
+    let t = Interval::constant(1.0) / 3.0;
+    assert_eq!(t.lo.next_up(), t.hi);
+    let exact = Mp::point(1.0)
+        .unwrap()
+        .div(&Mp::point(3.0).unwrap())
+        .unwrap();
+    assert_eq!(exact.verdict(t.lo, t.hi), Verdict::Inside);
+}
+
+#[test]
+fn exact_operations_stay_tight() {
+    assert_eq!(iv(1.0, 2.0) + iv(3.0, 4.0), iv(4.0, 6.0));
+    assert_eq!(iv(1.0, 2.0) - iv(3.0, 4.0), iv(-3.0, -1.0));
+    assert_eq!(iv(1.0, 2.0) * iv(-3.0, 4.0), iv(-6.0, 8.0));
+    assert_eq!(iv(1.0, 2.0) / iv(4.0, 8.0), iv(0.125, 0.5));
+    assert_eq!(iv(-1.5, 2.0) * 2.0, iv(-3.0, 4.0));
+    assert_eq!(2.0 * iv(-1.5, 2.0), iv(-3.0, 4.0));
+    assert_eq!(1.0 - iv(-1.5, 2.0), iv(-1.0, 2.5));
+    assert_eq!(3.0 + iv(-1.5, 2.0), iv(1.5, 5.0));
+    assert_eq!(1.0 / iv(2.0, 4.0), iv(0.25, 0.5));
+    assert_eq!(iv(2.0, 4.0).recip(), iv(0.25, 0.5));
+}
+
+#[test]
+fn division_by_a_range_holding_zero_is_the_whole_line() {
+    let whole = (-INF, INF);
+    for d in [
+        iv(-1.0, 1.0),
+        iv(0.0, 1.0),
+        iv(-1.0, 0.0),
+        iv(0.0, 0.0),
+        iv(-0.0, 0.0),
+    ] {
+        assert_eq!((iv(1.0, 2.0) / d).bounds(), whole, "{d:?}");
+        assert_eq!(d.recip().bounds(), whole, "{d:?}");
+        assert_eq!(d.rdiv(1.0).bounds(), whole);
+    }
+    assert_eq!((iv(1.0, 2.0) / 0.0).bounds(), whole);
+    assert_eq!(iv(1.0, 2.0).rdiv(0.0), iv(0.0, 0.0));
+    assert_eq!((iv(1.0, 2.0) / -0.0).bounds(), whole);
+}
+
+#[test]
+fn even_powers_of_ranges_across_zero_start_at_zero() {
+    assert_eq!(iv(-2.0, 3.0).sqr(), iv(0.0, 9.0));
+    assert_eq!(iv(-3.0, 2.0).sqr(), iv(0.0, 9.0));
+    assert_eq!(iv(-2.0, 3.0).powi(4), iv(0.0, 81.0));
+    assert_eq!(iv(-2.0, 3.0).powi(3), iv(-8.0, 27.0));
+    assert_eq!(iv(-3.0, -2.0).powi(3), iv(-27.0, -8.0));
+    assert_eq!(iv(-3.0, -2.0).sqr(), iv(4.0, 9.0));
+    assert_eq!(iv(-2.0, 3.0).powi(0), iv(1.0, 1.0));
+    assert_eq!(iv(-2.0, 3.0).powi(1), iv(-2.0, 3.0));
+    // Negative even power: positive wherever defined, unbounded above.
+    assert_eq!(iv(-2.0, 4.0).powi(-2), iv(1.0 / 16.0, INF));
+    assert_eq!(iv(2.0, 4.0).powi(-2), iv(1.0 / 16.0, 0.25));
+    // Negative odd power across 0: the whole line.
+    assert_eq!(iv(-2.0, 4.0).powi(-3).bounds(), (-INF, INF));
+    // abs
+    assert_eq!(iv(-2.0, 3.0).abs(), iv(0.0, 3.0));
+    assert_eq!(iv(-5.0, -3.0).abs(), iv(3.0, 5.0));
+}
+
+#[test]
+fn min_max_are_exact() {
+    assert_eq!(iv(1.0, 4.0).min(&iv(2.0, 3.0)), iv(1.0, 3.0));
+    assert_eq!(iv(1.0, 4.0).max(&iv(2.0, 3.0)), iv(2.0, 4.0));
+    assert_eq!(iv(0.1, 0.7).min(&iv(0.3, 0.5)), iv(0.1, 0.5));
+}
+
+#[test]
+fn dependency_problem_is_visible() {
+    // Intervals do not know that both operands are the same x.
+    let x = Interval::input(0, 0.0, 1.0);
+    assert_eq!(x - x, iv(-1.0, 1.0));
+    assert_eq!(x * x, iv(0.0, 1.0));
+    let y = Interval::input(0, -1.0, 1.0);
+    assert_eq!(y * y, iv(-1.0, 1.0));
+    assert_eq!(y.sqr(), iv(0.0, 1.0));
+    assert_eq!(x.linear_part(), None);
+    assert_eq!(x.bounds_at_inputs(&[0.5]), x.bounds());
+}
+
+#[test]
+fn bad_constructor_input_is_made_safe() {
+    assert_eq!(Interval::new(2.0, 1.0), iv(1.0, 2.0));
+    assert_eq!(Interval::new(f64::NAN, 1.0), Interval::ENTIRE);
+    assert_eq!(Interval::constant(f64::NAN), Interval::ENTIRE);
+    assert!(Interval::ENTIRE.is_entire());
+    assert!(iv(1.0, 2.0).contains(1.5) && !iv(1.0, 2.0).contains(2.5));
+    assert_eq!(iv(1.0, 3.0).width(), 2.0);
+    assert_eq!(Interval::ENTIRE.width(), INF);
+}
+
+#[test]
+fn overflow_gives_infinite_bounds() {
+    let e = iv(710.0, 720.0).exp();
+    assert_eq!(e.hi, INF);
+    // (How tight the lower bound is depends on the shared `approx::range_exp`.)
+    assert!(e.lo >= 0.0 && e.lo <= f64::MAX);
+    let p = iv(1e200, 1e201) * iv(1e200, 1e201);
+    assert_eq!(p, iv(f64::MAX, INF));
+    let s = iv(f64::MAX, f64::MAX) + iv(f64::MAX, f64::MAX);
+    assert_eq!(s, iv(f64::MAX, INF));
+    assert_eq!(iv(-1.0, 1e300).powi(3).hi, INF);
+}
+
+/// Intervals with infinite and zero bounds, as operations on overflowed or degenerate
+/// results produce them.
+fn specials() -> Vec<Interval> {
+    vec![
+        Interval::ENTIRE,
+        iv(-INF, -INF),
+        iv(INF, INF),
+        iv(-INF, 0.0),
+        iv(0.0, INF),
+        iv(f64::MAX, INF),
+        iv(-INF, -1.0),
+        iv(0.0, 0.0),
+        iv(-0.0, -0.0),
+        iv(-1.0, 1.0),
+        iv(2.0, 3.0),
+        iv(-f64::MAX, f64::MAX),
+        iv(5e-324, 5e-324),
+    ]
+}
+
+fn assert_no_nan(r: Interval, what: &str) {
+    assert!(
+        !r.lo.is_nan() && !r.hi.is_nan() && r.lo <= r.hi,
+        "{what} = {r:?}"
+    );
+}
+
+#[test]
+fn no_nan_with_infinities() {
+    let cs = [0.0, -0.0, 1.0, -2.5, INF, -INF, f64::MAX];
+    for a in specials() {
+        for f in [
+            Real::sqr,
+            Real::sqrt,
+            Real::recip,
+            Real::exp,
+            Real::ln,
+            Real::sin,
+            Real::cos,
+            Real::abs,
+        ] {
+            assert_no_nan(f(&a), &format!("unary on {a:?}"));
+        }
+        for n in -4..=5 {
+            assert_no_nan(a.powi(n), &format!("{a:?}.powi({n})"));
+        }
+        assert_no_nan(-a, &format!("-{a:?}"));
+        for c in cs {
+            assert_no_nan(a + c, &format!("{a:?} + {c}"));
+            assert_no_nan(a - c, &format!("{a:?} - {c}"));
+            assert_no_nan(a * c, &format!("{a:?} * {c}"));
+            assert_no_nan(a / c, &format!("{a:?} / {c}"));
+            assert_no_nan(c - a, &format!("{c} - {a:?}"));
+            assert_no_nan(c / a, &format!("{c} / {a:?}"));
+        }
+        for b in specials() {
+            assert_no_nan(a + b, &format!("{a:?} + {b:?}"));
+            assert_no_nan(a - b, &format!("{a:?} - {b:?}"));
+            assert_no_nan(a * b, &format!("{a:?} * {b:?}"));
+            assert_no_nan(a / b, &format!("{a:?} / {b:?}"));
+            assert_no_nan(a.min(&b), &format!("min {a:?} {b:?}"));
+            assert_no_nan(a.max(&b), &format!("max {a:?} {b:?}"));
+        }
+    }
+    // The indeterminate forms give the whole line, not a NaN or a guess.
+    assert_eq!(iv(-INF, -INF) + iv(INF, INF), Interval::ENTIRE);
+    assert_eq!(iv(0.0, 0.0) * Interval::ENTIRE, Interval::ENTIRE);
+    assert_eq!(iv(INF, INF) * 0.0, Interval::ENTIRE);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 512, failure_persistence: None, ..ProptestConfig::default() })]
+
+    /// Sums, products and quotients of two points: the bounds are adjacent floats or
+    /// equal, and hold the exact result (checked rigorously).
+    #[test]
+    fn point_ops_are_tight_and_sound(a in strategies::any_finite(), b in strategies::any_finite()) {
+        let (x, y) = (Interval::constant(a), Interval::constant(b));
+        let cases = [
+            (x + y, Mp::point(a).unwrap().add(&Mp::point(b).unwrap())),
+            (x * y, Mp::point(a).unwrap().mul(&Mp::point(b).unwrap())),
+            (x / y, Mp::point(a).unwrap().div(&Mp::point(b).unwrap())),
+        ];
+        for (r, exact) in cases {
+            let Some(exact) = exact else { continue };
+            prop_assert_ne!(exact.verdict(r.lo, r.hi), Verdict::Outside, "{:?} vs {}", r, exact.describe());
+            if r.lo.is_finite() && r.hi.is_finite() {
+                // At most one ulp apart: rounding moved only one bound, by one step.
+                prop_assert!(r.lo == r.hi || r.lo.next_up() == r.hi, "{:?}", r);
+            }
+        }
+    }
+
+    /// Results only ever get wider when an operand gets wider (inclusion isotonicity).
+    #[test]
+    fn inclusion_isotone(
+        (a, b) in strategies::range_any(),
+        (c, d) in strategies::range_any(),
+        t in 0.0..=1.0f64,
+    ) {
+        let x = iv(a, b);
+        let y = iv(c, d);
+        let m = (a * (1.0 - t) + b * t).clamp(a, b);
+        let sub = iv(m, m);
+        for (wide, narrow) in [
+            (x + y, sub + y), (x - y, sub - y), (x * y, sub * y), (x / y, sub / y),
+            (x.sqr(), sub.sqr()), (x.abs(), sub.abs()), (x.recip(), sub.recip()),
+            (x.powi(3), sub.powi(3)), (x.powi(-2), sub.powi(-2)),
+        ] {
+            if narrow.is_entire() && sub.contains_zero() {
+                // recip/powi(-n) of exactly 0: undefined everywhere, the whole line by
+                // convention even where the wider range gives [1/h, inf).
+                continue;
+            }
+            prop_assert!(wide.lo <= narrow.lo && narrow.hi <= wide.hi, "{:?} not within {:?}", narrow, wide);
+        }
+    }
+}
