@@ -25,7 +25,7 @@
 //! ```
 
 use arith_core::approx::{self, Approx};
-use arith_core::round::{err, two_prod, two_sum};
+use arith_core::round::{err, two_sum};
 use arith_core::{Arithmetic, Linear, Range, Real};
 use core::cell::Cell;
 use core::ops::{Add, Div, Mul, Neg, Sub};
@@ -115,21 +115,66 @@ fn acc_err(acc: &mut f64, e: f64) {
     }
 }
 
-/// Below this magnitude the FMA residual of a product may itself be rounded
-/// (underflow), so [`prod`] falls back to the [`err`] bound there.
-const TINY_PRODUCT: f64 = 1.0e-290;
+/// Accumulates rounding-error bounds `|e_i|` with plain additions, bounding the
+/// summation's own rounding at the end: for `n` non-negative terms recursive summation
+/// gives `S <= ŝ/(1 - γ_{n-1}) <= ŝ·(1 + 2(n-1)u)` (Higham, Thm 4.1 with
+/// `γ_k = ku/(1-ku)`, `ku <= 1/4`; float addition never underflows inexactly).
+#[derive(Default)]
+struct ErrAcc {
+    s: f64,
+    n: u32,
+}
 
-/// `fl(a * b)` and a bound on its rounding error: the exact FMA residual where that is
-/// representable (zero for exact products such as scaling by small integers), else
-/// [`err`] (also `+inf` on overflow).
+impl ErrAcc {
+    /// Adds `|e|` (NaN meaning "unbounded"); exact zeros are skipped, so exact operations
+    /// add no symbol.
+    #[inline]
+    fn add(&mut self, e: f64) {
+        if e != 0.0 {
+            self.s += e.abs();
+            self.n += 1;
+        }
+    }
+
+    /// An upper bound of the exact sum (`+inf` for overflow or NaN).
+    #[inline]
+    fn bound(&self) -> f64 {
+        match self.n {
+            0 => 0.0,
+            1 if !self.s.is_nan() => self.s,
+            _ if self.s.is_nan() => f64::INFINITY,
+            // (n - 1)·2^-52 and 1 + that are exact for n < 2^52.
+            n => (self.s * (1.0 + (n - 1) as f64 * f64::EPSILON)).next_up(),
+        }
+    }
+}
+
+/// Number of significant bits of a normal float (53 minus trailing zero bits of the
+/// significand with its implicit bit); 54 (never "short") for other values.
+#[inline]
+fn sig_bits(x: f64) -> u32 {
+    if x.is_normal() {
+        let m = (x.to_bits() & ((1u64 << 52) - 1)) | (1u64 << 52);
+        53 - m.trailing_zeros()
+    } else {
+        54
+    }
+}
+
+/// `fl(a * b)` and a bound on its rounding error: zero when the product is provably
+/// exact (the significands have at most 53 significant bits together and the result is
+/// normal, as when scaling short coefficients by small integers), else [`err`] (also
+/// `+inf` on overflow). A bit-count test instead of an FMA residual: `mul_add` is a
+/// slow library call on targets compiled without FMA.
 #[inline]
 fn prod(a: f64, b: f64) -> (f64, f64) {
-    let (p, pe) = two_prod(a, b);
-    if p.is_finite() && (p.abs() >= TINY_PRODUCT || p == 0.0 && (a == 0.0 || b == 0.0)) {
-        (p, pe.abs())
+    let p = a * b;
+    let exact = if p == 0.0 {
+        a == 0.0 || b == 0.0
     } else {
-        (p, err(p))
-    }
+        p.abs() >= f64::MIN_POSITIVE && p.is_finite() && sig_bits(a) + sig_bits(b) <= 53
+    };
+    (p, if exact { 0.0 } else { err(p) })
 }
 
 /// `sqr` centres the quadratic term only when `R >= SQR_SHIFT_MIN·(|x0| + R)`, i.e. when
@@ -202,21 +247,21 @@ impl Aa {
         // Halving first cannot overflow like `lo + hi`; it is exact except for
         // subnormals, where its error (< ETA) shifts both mid and rad.
         let (a, b) = (0.5 * lo, 0.5 * hi);
-        let mut e = 0.0;
+        let mut e = ErrAcc::default();
         for (half, full) in [(a, lo), (b, hi)] {
             if 2.0 * half != full {
-                acc_err(&mut e, 2.0 * arith_core::round::ETA);
+                e.add(2.0 * arith_core::round::ETA);
             }
         }
         let (mid, tm) = two_sum(a, b);
         let (rad, tr) = two_sum(b, -a);
-        acc_err(&mut e, tm);
-        acc_err(&mut e, tr);
+        e.add(tm);
+        e.add(tr);
         let mut terms = Vec::with_capacity(2);
         if rad != 0.0 {
             terms.push((sym, rad));
         }
-        Aa { x0: mid, terms }.finish(e)
+        Aa { x0: mid, terms }.finish(e.bound())
     }
 
     /// Puts the accumulated error bound `e` on a fresh symbol (if non-zero) and turns
@@ -239,8 +284,8 @@ impl Aa {
         }
         let (c0, e0) = two_sum(self.x0, s * other.x0);
         self.x0 = c0;
-        let mut e = 0.0;
-        acc_err(&mut e, e0);
+        let mut e = ErrAcc::default();
+        e.add(e0);
         let b = &other.terms;
         if !b.is_empty() {
             let a = &mut self.terms;
@@ -257,7 +302,7 @@ impl Aa {
                     i -= 1;
                 } else if i > 0 && a[i - 1].0 == bs {
                     let (c, ce) = two_sum(a[i - 1].1, s * bc);
-                    acc_err(&mut e, ce);
+                    e.add(ce);
                     i -= 1;
                     j -= 1;
                     if c != 0.0 {
@@ -276,7 +321,7 @@ impl Aa {
                 a.truncate(i + (n + m - k));
             }
         }
-        self.finish(e)
+        self.finish(e.bound())
     }
 
     /// `c·self` in place.
@@ -292,18 +337,18 @@ impl Aa {
         if c == 1.0 {
             return self;
         }
-        let mut e = 0.0;
+        let mut e = ErrAcc::default();
         let (p, pe) = prod(self.x0, c);
         self.x0 = p;
-        acc_err(&mut e, pe);
+        e.add(pe);
         for t in &mut self.terms {
             let (p, pe) = prod(t.1, c);
             t.1 = p;
-            acc_err(&mut e, pe);
+            e.add(pe);
         }
         // Underflow to zero leaves a zero coefficient; its error is already counted.
         self.terms.retain(|t| t.1 != 0.0);
-        self.finish(e)
+        self.finish(e.bound())
     }
 
     /// `self / c` in place.
@@ -315,15 +360,15 @@ impl Aa {
         if is_exact_scale(c) && is_exact_scale(r) && r.is_normal() {
             return self.scale(r);
         }
-        let mut e = 0.0;
+        let mut e = ErrAcc::default();
         self.x0 /= c;
-        acc_err(&mut e, err(self.x0));
+        e.add(err(self.x0));
         for t in &mut self.terms {
             t.1 /= c;
-            acc_err(&mut e, err(t.1));
+            e.add(err(t.1));
         }
         self.terms.retain(|t| t.1 != 0.0);
-        self.finish(e)
+        self.finish(e.bound())
     }
 
     /// `alpha·self + zeta ± delta`, the one place every non-affine function goes through.
@@ -331,27 +376,27 @@ impl Aa {
         if self.is_entire() || a.is_entire() || a.delta < 0.0 {
             return Aa::entire();
         }
-        let mut e = 0.0;
-        acc_err(&mut e, a.delta);
+        let mut e = ErrAcc::default();
+        e.add(a.delta);
         if a.alpha == 0.0 {
             self.terms.clear();
             self.x0 = a.zeta;
         } else {
             let (p, pe) = prod(self.x0, a.alpha);
-            acc_err(&mut e, pe);
+            e.add(pe);
             let (c, ce) = two_sum(p, a.zeta);
-            acc_err(&mut e, ce);
+            e.add(ce);
             self.x0 = c;
             if a.alpha != 1.0 {
                 for t in &mut self.terms {
                     let (p, pe) = prod(t.1, a.alpha);
                     t.1 = p;
-                    acc_err(&mut e, pe);
+                    e.add(pe);
                 }
                 self.terms.retain(|t| t.1 != 0.0);
             }
         }
-        self.finish(e)
+        self.finish(e.bound())
     }
 
     /// Applies the approximation `f` built on this form's range; unbounded forms and
@@ -381,9 +426,10 @@ impl Aa {
         }
         let (x0, y0) = (self.x0, other.x0);
         let (rx, ry) = (self.radius(), other.radius());
-        let mut e = mul_up_exact(rx, ry);
+        let mut e = ErrAcc::default();
+        e.add(mul_up_exact(rx, ry));
         let (p0, pe) = prod(x0, y0);
-        acc_err(&mut e, pe);
+        e.add(pe);
         let (a, b) = (&self.terms, &other.terms);
         let mut t = Vec::with_capacity(a.len() + b.len() + 1);
         let (mut i, mut j) = (0, 0);
@@ -393,23 +439,23 @@ impl Aa {
             if j == b.len() || (i < a.len() && a[i].0 < b[j].0) {
                 sym = a[i].0;
                 let (p, pe) = prod(y0, a[i].1);
-                acc_err(&mut e, pe);
+                e.add(pe);
                 c = p;
                 i += 1;
             } else if i == a.len() || b[j].0 < a[i].0 {
                 sym = b[j].0;
                 let (p, pe) = prod(x0, b[j].1);
-                acc_err(&mut e, pe);
+                e.add(pe);
                 c = p;
                 j += 1;
             } else {
                 sym = a[i].0;
                 let (p, pe) = prod(y0, a[i].1);
                 let (q, qe) = prod(x0, b[j].1);
-                acc_err(&mut e, pe);
-                acc_err(&mut e, qe);
+                e.add(pe);
+                e.add(qe);
                 let (s, se) = two_sum(p, q);
-                acc_err(&mut e, se);
+                e.add(se);
                 c = s;
                 i += 1;
                 j += 1;
@@ -418,7 +464,7 @@ impl Aa {
                 t.push((sym, c));
             }
         }
-        Aa { x0: p0, terms: t }.finish(e)
+        Aa { x0: p0, terms: t }.finish(e.bound())
     }
 
     /// `x^2` as `x0² + s + Σ 2·x0·xi·εi ± r`: the quadratic part `(Σ xi·εi)²` lies in
@@ -429,15 +475,15 @@ impl Aa {
             return Aa::entire();
         }
         let x0 = self.x0;
-        let mut e = 0.0;
+        let mut e = ErrAcc::default();
         let (p, pe) = prod(x0, x0);
-        acc_err(&mut e, pe);
+        e.add(pe);
         if self.terms.is_empty() {
             return Aa {
                 x0: p,
                 terms: Vec::new(),
             }
-            .finish(e);
+            .finish(e.bound());
         }
         let r = self.radius();
         // When R² is below a few ulps of the result, the shift below gains less than
@@ -450,19 +496,19 @@ impl Aa {
         // the shift lies in [-(h + t), r2 - (h + t)]: no rounding error of its own.
         let h = 0.5 * r2;
         let (c, t) = two_sum(p, h);
-        acc_err(&mut e, f64::max(sum_up(h, t), sum_up(sum_up(r2, -h), -t)));
+        e.add(f64::max(sum_up(h, t), sum_up(sum_up(r2, -h), -t)));
         let t = 2.0 * x0;
         let mut terms = Vec::with_capacity(self.terms.len() + 1);
         if t != 0.0 {
             for &(sym, xi) in &self.terms {
                 let (ci, cie) = prod(t, xi);
-                acc_err(&mut e, cie);
+                e.add(cie);
                 if ci != 0.0 {
                     terms.push((sym, ci));
                 }
             }
         }
-        Aa { x0: c, terms }.finish(e)
+        Aa { x0: c, terms }.finish(e.bound())
     }
 }
 
@@ -541,9 +587,9 @@ impl Add<f64> for Aa {
         }
         let (c, ce) = two_sum(self.x0, rhs);
         self.x0 = c;
-        let mut e = 0.0;
-        acc_err(&mut e, ce);
-        self.finish(e)
+        let mut e = ErrAcc::default();
+        e.add(ce);
+        self.finish(e.bound())
     }
 }
 
