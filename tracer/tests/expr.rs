@@ -8,6 +8,7 @@ use proptest::prelude::*;
 use proptest::sample::select;
 use tracer::expr::{
     parse, parse_program, BinOp, Binding, Expr, Func, Op, ParseError, Program, Tape, Var,
+    MAX_TREE_DEPTH,
 };
 
 /// Bitwise equality that treats every NaN as equal.
@@ -418,6 +419,17 @@ fn every_error_path_has_its_position() {
 }
 
 #[test]
+fn render_survives_hand_made_errors() {
+    let e = ParseError {
+        pos: 99,
+        message: "m".into(),
+        line: 0,
+        column: 0,
+    };
+    assert!(e.render("x").contains('^'));
+}
+
+#[test]
 fn error_display_and_caret() {
     let src = "(x + 1";
     let e = err(src);
@@ -469,6 +481,24 @@ fn deep_or_long_input_is_an_error_not_a_crash() {
     }
     chain.push_str(" b4999");
     assert_eq!(at(&chain, 0.5, 0.0, 0.0), 4999.5);
+    // Printing such tapes keeps the text within the nesting limits.
+    for src in [
+        chain,
+        sum,
+        format!("{}x{}", "sin(".repeat(150), ")".repeat(150)),
+    ] {
+        let t = tape(&src);
+        let back = tape(&t.to_formula());
+        assert!(same(t.eval(0.5, 0.0, 0.0), back.eval(0.5, 0.0, 0.0)));
+    }
+    // A near-limit tree parses, compiles, prints and drops on a test thread's stack.
+    let near = vec!["x"; MAX_TREE_DEPTH - 1].join(" + ");
+    let p = parse_program(&near).unwrap();
+    assert_eq!(parse_program(&p.to_string()).unwrap(), p);
+    assert_eq!(
+        Tape::compile(&p).unwrap().eval(1.0, 0.0, 0.0),
+        (MAX_TREE_DEPTH - 1) as f64
+    );
 }
 
 // ---------------------------------------------------------------- the paper's CSG model

@@ -53,12 +53,15 @@ impl ParseError {
     ///         ^
     /// ```
     pub fn render(&self, src: &str) -> String {
-        let line = src.split('\n').nth(self.line - 1).unwrap_or("");
+        let line = src
+            .split('\n')
+            .nth(self.line.saturating_sub(1))
+            .unwrap_or("");
         let line = line.strip_suffix('\r').unwrap_or(line);
         // Copy tabs so the caret lines up however the terminal expands them.
         let pad: String = line
             .chars()
-            .take(self.column - 1)
+            .take(self.column.saturating_sub(1))
             .map(|c| if c == '\t' { '\t' } else { ' ' })
             .collect();
         format!("{self}\n  {line}\n  {pad}^")

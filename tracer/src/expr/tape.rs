@@ -661,7 +661,16 @@ impl Tape {
             }
         };
         let last = self.ins.len().saturating_sub(1);
+        // Depth of each inlined expression: deep ones become bindings too, so that the
+        // text stays within the parser's nesting limits.
+        let mut depth = vec![1usize; self.ins.len()];
         for (r, i) in self.ins.iter().enumerate() {
+            let d = 1 + i
+                .operands()
+                .iter()
+                .map(|&k| depth[i.reg(k) as usize])
+                .max()
+                .unwrap_or(0);
             let a = if i.op.arity() >= 1 {
                 get(&mut exprs, i.a)
             } else {
@@ -703,13 +712,15 @@ impl Tape {
                 Op::Union => Expr::bin(BinOp::Union, a, b),
                 Op::Subtract => Expr::bin(BinOp::Subtract, a, b),
             };
-            let e = if uses[r] > 1 && r != last && !matches!(e, Expr::Var(_) | Expr::Num(_)) {
+            let shared = uses[r] > 1 || d > INLINE_DEPTH;
+            let e = if shared && r != last && !matches!(e, Expr::Var(_) | Expr::Num(_)) {
                 bindings.push(super::ast::Binding {
                     name: format!("t{r}"),
                     expr: e,
                 });
                 Expr::Ref(bindings.len() - 1)
             } else {
+                depth[r] = d;
                 e
             };
             exprs[r] = Some(e);
@@ -726,6 +737,9 @@ impl Tape {
         self.to_program().to_string()
     }
 }
+
+/// Deepest expression [`Tape::to_program`] writes inline (far below the parser's limit).
+const INLINE_DEPTH: usize = 64;
 
 /// Drops instructions the result does not depend on, renumbers, and marks last reads.
 fn finish(ins: Vec<Instr>, out: u32) -> Vec<Instr> {
