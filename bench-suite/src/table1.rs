@@ -139,6 +139,13 @@ pub struct Cell {
     pub pixels: u64,
     /// Pixels whose hit flag differs from the reference arithmetic's.
     pub mask_diff: Option<usize>,
+    /// Among pixels where the arithmetics disagree: this one reports a miss although
+    /// `f64` samples along the ray change sign (a certain root). A soundness failure.
+    pub missed_roots: usize,
+    /// Among pixels where the arithmetics disagree: this one reports a (possible) root
+    /// that no sign change along the ray confirms, while another arithmetic proved the
+    /// ray root-free: a range still holding 0 at the root precision (overestimation).
+    pub unconfirmed_hits: usize,
 }
 
 impl Cell {
@@ -195,6 +202,19 @@ pub struct Report {
 }
 
 impl Report {
+    /// Every (model, arithmetic, rays) where an arithmetic missed a certain root.
+    pub fn missed_roots(&self) -> Vec<(PaperModel, ArithKind, usize)> {
+        let mut v = Vec::new();
+        for r in &self.rows {
+            for c in &r.cells {
+                if c.missed_roots > 0 {
+                    v.push((r.model, c.kind, c.missed_roots));
+                }
+            }
+        }
+        v
+    }
+
     /// Every (model, arithmetic, pixels differing) hit-mask disagreement.
     pub fn disagreements(&self) -> Vec<(PaperModel, ArithKind, ArithKind, usize)> {
         let mut v = Vec::new();
@@ -283,6 +303,8 @@ pub fn run(opts: &Options) -> Result<Report, String> {
                 hits: 0,
                 pixels: w as u64 * h as u64,
                 mask_diff: None,
+                missed_roots: 0,
+                unconfirmed_hits: 0,
             })
             .collect();
         let mut masks: Vec<Option<Vec<bool>>> = vec![None; opts.kinds.len()];
@@ -359,6 +381,17 @@ pub fn run(opts: &Options) -> Result<Report, String> {
                 }
             }
         }
+        classify_disagreements(m, (w, h), &masks, &mut cells);
+        for c in &cells {
+            if c.missed_roots > 0 {
+                eprintln!(
+                    "!!! MISSED ROOTS: {} {} reports no hit on {} rays where f changes sign",
+                    m.name(),
+                    c.kind.label(),
+                    c.missed_roots
+                );
+            }
+        }
         rows.push(Row {
             model: m,
             width: w,
@@ -380,6 +413,65 @@ pub fn run(opts: &Options) -> Result<Report, String> {
     write(&opts.out.join("table1.csv"), csv(&report).as_bytes())?;
     draw_chart(&report, &opts.out.join("table1.png"))?;
     Ok(report)
+}
+
+/// Samples per ray when checking a disputed pixel for a sign change.
+const SIGN_SAMPLES: usize = 20_000;
+
+/// Whether `f64` samples of `m` along the pixel's ray (clipped to the domain) change
+/// sign: then the ray certainly has a root (the models are continuous).
+pub fn ray_changes_sign(m: PaperModel, (w, h): (u32, u32), i: u32, j: u32) -> bool {
+    let model = m.model();
+    let cam = tracer::camera::Camera::new(model.view, w, h);
+    let (o, d) = cam.ray(i, j);
+    let Some((t0, t1)) = tracer::ray::clip(o, d, &model.domain, 0.0) else {
+        return false;
+    };
+    let (mut pos, mut neg) = (false, false);
+    for k in 0..=SIGN_SAMPLES {
+        let t = t0 + (t1 - t0) * k as f64 / SIGN_SAMPLES as f64;
+        let p = o + d * t;
+        let v = m.eval(p.x, p.y, p.z);
+        pos |= v > 0.0;
+        neg |= v < 0.0;
+        if pos && neg {
+            return true;
+        }
+    }
+    false
+}
+
+/// For every pixel where the finished arithmetics disagree, checks the ray for a sign
+/// change and counts, per arithmetic, missed certain roots and unconfirmed hits.
+fn classify_disagreements(
+    m: PaperModel,
+    size: (u32, u32),
+    masks: &[Option<Vec<bool>>],
+    cells: &mut [Cell],
+) {
+    let done: Vec<(usize, &Vec<bool>)> = masks
+        .iter()
+        .enumerate()
+        .filter_map(|(k, v)| v.as_ref().map(|v| (k, v)))
+        .collect();
+    let Some(&(_, first)) = done.first() else {
+        return;
+    };
+    for p in 0..first.len() {
+        let hit = |k: &(usize, &Vec<bool>)| k.1[p];
+        if done.iter().all(hit) || !done.iter().any(hit) {
+            continue;
+        }
+        let (i, j) = ((p % size.0 as usize) as u32, (p / size.0 as usize) as u32);
+        let root = ray_changes_sign(m, size, i, j);
+        for &(k, mask) in &done {
+            if root && !mask[p] {
+                cells[k].missed_roots += 1;
+            } else if !root && mask[p] {
+                cells[k].unconfirmed_hits += 1;
+            }
+        }
+    }
 }
 
 fn write(path: &Path, bytes: &[u8]) -> Result<(), String> {
@@ -569,13 +661,22 @@ pub fn markdown(r: &Report) -> String {
         s.push('\n');
     }
     let dis = r.disagreements();
-    if dis.is_empty() {
+    let missed = r.missed_roots();
+    if dis.is_empty() && missed.is_empty() {
         let _ = writeln!(
             s,
             "\nHit masks: every arithmetic that finished agrees pixel for pixel."
         );
     } else {
-        let _ = writeln!(s, "\n**HIT MASK DISAGREEMENTS**:");
+        let _ = writeln!(
+            s,
+            "\n**HIT MASK DISAGREEMENTS** (vs the reference arithmetic). Each disputed ray is \
+             sampled at {SIGN_SAMPLES} points in f64: a sign change proves a root, so a miss there \
+             is a *missed root* (a soundness failure); a hit with no sign change while another \
+             arithmetic proved the ray root-free is an *unconfirmed hit*: a range that still \
+             holds 0 on a segment at the root precision, which reliable methods report as a \
+             possible root.\n"
+        );
         for (m, k, rk, n) in dis {
             let _ = writeln!(
                 s,
@@ -583,6 +684,14 @@ pub fn markdown(r: &Report) -> String {
                 m.name(),
                 k.label(),
                 rk.label()
+            );
+        }
+        for (m, k, n) in missed {
+            let _ = writeln!(
+                s,
+                "- **{}: {} MISSED {n} CERTAIN ROOTS**",
+                m.name(),
+                k.label()
             );
         }
     }
@@ -597,7 +706,21 @@ fn mask_summary(row: &Row) -> String {
         .cells
         .iter()
         .filter_map(|c| match c.mask_diff {
-            Some(n) if n > 0 => Some(format!("{} {n} px", c.kind.label())),
+            Some(n) if n > 0 => Some(format!(
+                "{} {n} px ({} unconfirmed hits{})",
+                c.kind.label(),
+                c.unconfirmed_hits,
+                if c.missed_roots > 0 {
+                    format!(", **{} MISSED ROOTS**", c.missed_roots)
+                } else {
+                    String::new()
+                }
+            )),
+            _ if c.missed_roots > 0 => Some(format!(
+                "**{} {} MISSED ROOTS**",
+                c.kind.label(),
+                c.missed_roots
+            )),
             _ => None,
         })
         .collect();
@@ -619,7 +742,7 @@ pub fn csv(r: &Report) -> String {
         "model,arith,width,height,ops_all,ops_nonaffine,ops_mul,paper_ops_all,paper_ops_nonaffine,\
          paper_ops_mul,seconds_median,runs,stopped,budget_s,range_evals_per_pixel,ray_evals,cell_evals,\
          hits,ratio_to_revaa,paper_width,paper_height,paper_seconds,speedup_vs_paper,mask_reference,\
-         mask_diff_pixels\n",
+         mask_diff_pixels,missed_roots,unconfirmed_hits\n",
     );
     for row in &r.rows {
         for c in &row.cells {
@@ -632,7 +755,7 @@ pub fn csv(r: &Report) -> String {
             let runs: Vec<String> = c.runs.iter().map(|x| format!("{x:.6}")).collect();
             let _ = writeln!(
                 s,
-                "{},{},{},{},{},{},{},{},{},{},{:.6},{},{},{},{:.3},{},{},{},{},{},{},{},{},{},{}",
+                "{},{},{},{},{},{},{},{},{},{},{:.6},{},{},{},{:.3},{},{},{},{},{},{},{},{},{},{},{},{}",
                 row.model.name(),
                 c.kind.name(),
                 row.width,
@@ -658,6 +781,8 @@ pub fn csv(r: &Report) -> String {
                 opt(row.speedup(c.kind)),
                 row.reference.map_or("", |k| k.name()),
                 c.mask_diff.map_or(String::new(), |n| n.to_string()),
+                c.missed_roots,
+                c.unconfirmed_hits,
             );
         }
     }
