@@ -7,10 +7,19 @@
 //! so forms keep growing: that is what makes standard AA precise on correlated
 //! expressions and slow on long ones (the baseline of the papers' comparisons).
 //!
-//! Soundness: every operation rounds to nearest and bounds its own error (error-free
-//! sums, `err` bounds on products), sums those bounds with upward rounding and puts them
-//! on one fresh symbol per operation. Non-affine functions all go through the shared
-//! [`arith_core::approx`] approximations `f(x) ∈ alpha·x + zeta ± delta`.
+//! Soundness: every operation rounds to nearest and bounds its own error (TwoSum for
+//! sums, `err` bounds for products unless a bit count proves them exact), sums those
+//! bounds with a rigorous upward bound and puts them on one fresh symbol per operation;
+//! exact operations add no symbol. Non-affine functions all go through the shared
+//! [`arith_core::approx`] approximations `f(x) ∈ alpha·x + zeta ± delta` (built on the
+//! form's bounds), except `sqr`, which uses the form's structure: `(Σ xi·εi)² ∈ [0, R²]`
+//! is centred, so `sqr` spends `R²/2` where the general product `x * x` spends `R²`.
+//! The product is the standard one (new symbol `Σ|xi|·Σ|yi|`). An overflow or a domain
+//! edge (`recip`/`ln` of a range reaching 0) gives the unbounded form, never NaN.
+//!
+//! Inputs follow the [`Range::bounds_at_inputs`] convention exactly: `input(i, lo, hi)`
+//! with `ε_i = eps` is the point `(lo+hi)/2 + (hi-lo)/2·eps` of exact real arithmetic;
+//! when those are not floats, the rounding goes on a fresh symbol.
 //!
 //! ```
 //! use arith_aa::Aa;
