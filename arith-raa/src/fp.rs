@@ -98,3 +98,16 @@ pub const fn k_lin(n: usize) -> usize {
 pub const fn k_mul(n: usize) -> usize {
     16 + 8 * n + 2 * n * n
 }
+
+/// Relative margin (times `(|x0| + W)²`) above which the Chebyshev square's gain in width
+/// over `x * x` certainly survives the rounding allowances of both computations: each
+/// adds at most `2(k+2)U` of a radius `<= 3(|x0|+W)²`, `U` times `<= 6(|x0|+W)²` of
+/// rounded values, and the outward rounding of the bounds a few ulps more. We take
+/// twice that.
+pub const fn sqr_margin(n: usize) -> f64 {
+    (16 * (k_mul(n) + 2) + 128) as f64 * U
+}
+
+/// Absolute floor for the same comparison: below it (values under about `1e-150`)
+/// subnormal-range allowances dominate, and `x * x` is used.
+pub const TINY: f64 = 1e-300;

@@ -321,6 +321,15 @@ impl<const N: usize> Real for Raa<N> {
         for c in &self.xs {
             w = add_dir_up(w, c.abs());
         }
+        // The gain over x * x in width is W². Where it is below what the rounding
+        // bookkeeping can blur (a few hundred ulps of (|x0| + W)², see
+        // `fp::sqr_margin`), x * x itself is the answer: then sqr is never wider than
+        // x * x after rounding either, not only in exact arithmetic. Both are sound.
+        let m = x0.abs() + w;
+        let gain_survives = w * w > fp::sqr_margin(N) * (m * m) + fp::TINY;
+        if !gain_survives {
+            return *self * *self;
+        }
         let p0 = x0 * x0;
         let ww = w * w;
         let h = 0.5 * ww;

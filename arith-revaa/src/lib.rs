@@ -338,8 +338,19 @@ impl<const N: usize> Real for RevAa<N> {
         let x0 = self.x0;
         // W: an upper bound of u + ex (exact sums stay exact, so N = 1, ex = 0 gives |x1|).
         let mut w = self.e;
+        let mut s2 = 0.0; // Σ xi²: x * x's quadratic part is [S - W², W²]
         for c in &self.xs {
             w = add_dir_up(w, c.abs());
+            s2 += c * c;
+        }
+        // The gain over x * x in width is G = W² - S. Where it is below what the
+        // rounding bookkeeping can blur (a few hundred ulps of (|x0| + W)², see
+        // `fp::sqr_margin`), x * x itself is the answer: then sqr is never wider than
+        // x * x after rounding either, not only in exact arithmetic. Both are sound.
+        let m = x0.abs() + w;
+        let gain_survives = w * w - s2 > fp::sqr_margin(N) * (m * m) + fp::TINY;
+        if !gain_survives {
+            return *self * *self;
         }
         let p0 = x0 * x0;
         let ww = w * w;

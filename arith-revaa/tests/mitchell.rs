@@ -32,14 +32,16 @@ const BOXES: [[(f64, f64); 3]; 6] = [
 ];
 
 /// Rays `o + t d`, `t ∈ [t0, t1]`: one input symbol shared by `x`, `y`, `z`.
-const RAYS: [([f64; 3], [f64; 3], (f64, f64)); 4] = [
+type Ray = ([f64; 3], [f64; 3], (f64, f64));
+
+const RAYS: [Ray; 4] = [
     ([-2.0, 0.25, 0.5], [1.0, 0.25, -0.5], (0.5, 1.5)),
     ([-2.0, -2.0, -2.0], [0.5, 0.5, 0.5], (2.0, 4.0)),
     ([0.0, 0.0, -3.0], [0.125, 0.25, 1.0], (1.75, 2.25)),
     ([1.5, -1.5, 0.0], [-0.5, 0.5, 0.25], (0.0, 4.0)),
 ];
 
-fn along_ray<R: Range>((o, d, (t0, t1)): ([f64; 3], [f64; 3], (f64, f64))) -> (f64, f64) {
+fn along_ray<R: Range>((o, d, (t0, t1)): Ray) -> (f64, f64) {
     let t = R::input(0, t0, t1);
     let c = |i: usize| t.clone() * d[i] + o[i];
     mitchell(c(0), c(1), c(2)).bounds()
