@@ -4,7 +4,9 @@
 //! (eq. 9), the blobby model (eq. 10) and the hypertextures (eqs. 11, 12) with the
 //! opposite sign (negative inside); here each is negated.
 use crate::lipschitz::auto_lipschitz;
-use crate::noise::{eval_field, Cellular, Field3, Perlin, SparseConvolution, SplitMix64};
+use crate::noise::{
+    eval_field, known, Cellular, Field3, Known, Perlin, SparseConvolution, SplitMix64,
+};
 use crate::shape::{Aabb, AnyShape, Model, Shape, View};
 use arith_core::Real;
 use glam::DVec3;
@@ -59,6 +61,32 @@ pub fn blobs() -> &'static [Blob] {
     })
 }
 
+/// The blobby function at a point, the same formula as the generic one with the work
+/// skipped where a basis function cannot contribute (the paper's clipping against the
+/// support spheres): outside a support its term is 0, and the distance term is 0 as soon
+/// as one support contains the point.
+fn blobby_point(p: DVec3) -> f64 {
+    let mut sum = -0.5;
+    let mut inside = false;
+    let mut outside = f64::INFINITY;
+    for b in blobs() {
+        let q = (p - b.centre).length_squared();
+        let r2 = b.radius * b.radius;
+        if q < r2 {
+            let u = 1.0 - q / r2;
+            sum += u * u * u * b.strength;
+            inside = true;
+        } else if !inside {
+            outside = outside.min(q.sqrt() - b.radius);
+        }
+    }
+    if inside {
+        sum
+    } else {
+        sum - outside
+    }
+}
+
 fn perlin() -> &'static Perlin {
     static P: OnceLock<Perlin> = OnceLock::new();
     P.get_or_init(|| Perlin::new(NOISE_SEED))
@@ -104,6 +132,11 @@ impl Shape for GmModel {
                 -quartic
             }
             GmModel::Blobby => {
+                if let (Known::Point(px), Known::Point(py), Known::Point(pz)) =
+                    (known(&x), known(&y), known(&z))
+                {
+                    return R::constant(blobby_point(DVec3::new(px, py, pz)));
+                }
                 let mut sum = R::constant(-0.5);
                 let mut outside: Option<R> = None;
                 for b in blobs() {

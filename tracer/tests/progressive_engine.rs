@@ -312,6 +312,7 @@ fn headless_preview_writes_a_snapshot_per_level() {
         overshoot: 1.46,
         aa: 1,
         paper_child_start: false,
+        local: false,
         headless: true,
         snapshots: Some(dir.clone()),
         out: Some(dir.join("out.png")),
@@ -337,4 +338,57 @@ fn headless_preview_writes_a_snapshot_per_level() {
     };
     assert!(run_preview(&bad).is_err());
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// With local (per ray segment) Lipschitz bounds the hit test `|f| / λ_segment < eps` is
+/// stricter than the global one, so near misses (rays passing within `eps λ / |grad f|`
+/// of the surface without crossing it) may be classified differently from the global
+/// caster; what must hold is the guarantee: no sign change of `f` before the reported
+/// depth (checked by dense sampling), a near-surface point at each hit, and a miss only
+/// where the ray never crosses the surface.
+#[test]
+fn local_bounds_keep_the_guarantee_and_save_evaluations() {
+    let cam_check = |name: &str, w: u32, h: u32| {
+        let m = model(name);
+        let mut opts = Options::new(m.lipschitz.unwrap());
+        opts.local = true;
+        let mut e = Engine::new(m.clone(), m.domain, m.view, w, h, opts).unwrap();
+        e.run();
+        let mut global =
+            Engine::new(m.clone(), m.domain, m.view, w, h, Options::new(opts.lambda)).unwrap();
+        global.run();
+        assert!(
+            e.stats().evals < global.stats().evals,
+            "{name}: local bounds should save point evaluations"
+        );
+        assert!(e.stats().range_evals > 0);
+        let cam = tracer::camera::Camera::new(m.view, w, h);
+        let f = |p: DVec3| m.eval(p.x, p.y, p.z);
+        for (k, &depth) in e.depth().iter().enumerate() {
+            let (o, d) = cam.ray(k as u32 % w, k as u32 / w);
+            let Some((t0, t1)) = tracer::lipschitz::clip_to_box(o, d, &m.domain) else {
+                assert!(depth.is_infinite());
+                continue;
+            };
+            let end = if depth.is_finite() { depth } else { t1 };
+            let s0 = f(o + d * t0).signum();
+            let n = 4000;
+            for i in 0..=n {
+                let t = t0 + (end - t0) * i as f64 / n as f64;
+                let v = f(o + d * t);
+                assert!(
+                    v.signum() == s0 || v.abs() < opts.eps * opts.lambda,
+                    "{name} pixel {k}: f changes sign at {t} before {depth}"
+                );
+            }
+            if depth.is_finite() {
+                assert!(
+                    f(o + d * depth).abs() < opts.eps * opts.lambda,
+                    "{name} pixel {k}: hit is not near the surface"
+                );
+            }
+        }
+    };
+    cam_check("mitchell-gm", 32, 24);
+    cam_check("blobby", 16, 12);
 }

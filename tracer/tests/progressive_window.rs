@@ -47,6 +47,7 @@ fn window_refines_for_a_second_then_stops_and_writes_the_image() {
         overshoot: 1.46,
         aa: 1,
         paper_child_start: false,
+        local: false,
         headless: false,
         snapshots: None,
         out: Some(out.clone()),

@@ -2,7 +2,9 @@
 //! the sample queue, prime-factor subdivision, regions of interest.
 
 use crate::camera::Camera;
-use crate::lipschitz::{box_distance, clip_to_box, overshoot_trace, sphere_trace, Bounded};
+use crate::lipschitz::{
+    box_distance, clip_to_box, local_trace, overshoot_trace, sphere_trace, Bounded, LocalCounts,
+};
 use crate::shade::{self, Light, Material, BACKGROUND};
 use crate::shape::{Aabb, Shape, View};
 use glam::DVec3;
@@ -41,6 +43,8 @@ pub struct Options {
     pub aa: u32,
     /// Child cone start rule.
     pub child_start: ChildStart,
+    /// Terminal rays use local (per ray segment) Lipschitz bounds ([`local_trace`]).
+    pub local: bool,
 }
 
 impl Options {
@@ -52,6 +56,7 @@ impl Options {
             overshoot: crate::lipschitz::DEFAULT_OVERSHOOT,
             aa: 1,
             child_start: ChildStart::Radial,
+            local: false,
         }
     }
 }
@@ -277,6 +282,8 @@ pub struct Stats {
     pub evals: u64,
     /// Point evaluations of `f` for normals (6 per shaded sample).
     pub shading_evals: u64,
+    /// Range evaluations (`Dual<Interval>`) for local Lipschitz bounds.
+    pub range_evals: u64,
 }
 
 /// What one [`Engine::step`] did.
@@ -558,17 +565,18 @@ impl<S: Shape> Engine<S> {
                     ChildStart::Paper if s.top => self.r_near,
                     ChildStart::Paper => s.start / d.dot(s.parent_dir),
                 };
-                let c = overshoot_trace(
-                    &self.bounded(),
-                    o,
-                    d,
-                    start.max(t_in),
-                    t_out,
-                    self.opts.eps,
-                    self.opts.overshoot,
-                );
-                evals = c.evals;
-                c.t
+                let (t0, eps, k) = (start.max(t_in), self.opts.eps, self.opts.overshoot);
+                if self.opts.local {
+                    let mut c = LocalCounts::default();
+                    let t = local_trace(&self.bounded(), o, d, t0, t_out, eps, k, &mut c);
+                    evals = c.evals;
+                    self.stats.range_evals += c.range_evals;
+                    t
+                } else {
+                    let c = overshoot_trace(&self.bounded(), o, d, t0, t_out, eps, k);
+                    evals = c.evals;
+                    c.t
+                }
             }
         };
         self.stats.evals += evals;
@@ -739,10 +747,12 @@ pub enum Caster {
     Standard,
     /// Steps enlarged by this factor, with step-back.
     Overshoot(f64),
+    /// [`local_trace`] with this overshooting factor (1 for plain steps).
+    Local(f64),
 }
 
 /// A conventional Lipschitz ray casting of the whole image (one ray per pixel centre):
-/// the depth of each pixel (`+inf` for a miss) and the point evaluations.
+/// the depth of each pixel (`+inf` for a miss) and the evaluation counts.
 #[allow(clippy::too_many_arguments)]
 pub fn raycast<S: Shape + ?Sized>(
     shape: &S,
@@ -753,7 +763,7 @@ pub fn raycast<S: Shape + ?Sized>(
     lambda: f64,
     eps: f64,
     caster: Caster,
-) -> Result<(Vec<f64>, u64), String> {
+) -> Result<(Vec<f64>, LocalCounts), String> {
     let cam = Camera::try_new(view, w, h)?;
     let b = Bounded {
         shape,
@@ -761,7 +771,7 @@ pub fn raycast<S: Shape + ?Sized>(
         lambda,
     };
     let mut depth = Vec::with_capacity(w as usize * h as usize);
-    let mut evals = 0;
+    let mut counts = LocalCounts::default();
     for j in 0..h {
         for i in 0..w {
             let (o, d) = cam.ray(i, j);
@@ -771,13 +781,19 @@ pub fn raycast<S: Shape + ?Sized>(
                     let c = match caster {
                         Caster::Standard => sphere_trace(&b, o, d, t0, t1, eps),
                         Caster::Overshoot(k) => overshoot_trace(&b, o, d, t0, t1, eps, k),
+                        Caster::Local(k) => {
+                            let mut c = LocalCounts::default();
+                            let t = local_trace(&b, o, d, t0, t1, eps, k, &mut c);
+                            counts.range_evals += c.range_evals;
+                            crate::lipschitz::Cast { t, evals: c.evals }
+                        }
                     };
-                    evals += c.evals;
+                    counts.evals += c.evals;
                     c.t
                 }
             };
             depth.push(t.unwrap_or(f64::INFINITY));
         }
     }
-    Ok((depth, evals))
+    Ok((depth, counts))
 }

@@ -45,6 +45,9 @@ pub struct PreviewArgs {
     /// Start child cones as eq. (8) of the paper instead of the guaranteed radial rule.
     #[arg(long)]
     pub paper_child_start: bool,
+    /// Local Lipschitz bounds per ray segment for the terminal rays (past the paper).
+    #[arg(long)]
+    pub local: bool,
     /// No window: refine to completion, printing each level transition.
     #[arg(long)]
     pub headless: bool,
@@ -86,6 +89,7 @@ pub fn options_for(args: &PreviewArgs, model: &Model) -> Result<Options, String>
     o.eps = args.eps;
     o.overshoot = args.overshoot;
     o.aa = args.aa;
+    o.local = args.local;
     if args.paper_child_start {
         o.child_start = ChildStart::Paper;
     }
