@@ -153,7 +153,7 @@ impl Interval {
     /// `x^n` for `n >= 1`.
     fn powi_pos(&self, n: u32) -> Interval {
         let (mig, mag) = self.mig_mag();
-        if n % 2 == 0 {
+        if n & 1 == 0 {
             return Interval::from_dir(pow_lo_nonneg(mig, n), pow_hi_nonneg(mag, n));
         }
         // Odd power: increasing, and x^n = -(|x|^n) for x < 0.
@@ -320,7 +320,7 @@ impl Real for Interval {
             n if n > 0 => self.powi_pos(n.unsigned_abs()),
             n => {
                 let p = self.powi_pos(n.unsigned_abs());
-                if n % 2 == 0 && p.lo >= 0.0 && p.hi > 0.0 {
+                if n & 1 == 0 && p.lo >= 0.0 && p.hi > 0.0 {
                     // x^-n for even n is positive wherever it is defined (x != 0): at most
                     // the lower bound survives when the power reaches 0.
                     Interval::from_dir(div_lo(1.0, p.hi), div_hi(1.0, p.lo))
