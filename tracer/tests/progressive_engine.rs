@@ -392,3 +392,39 @@ fn local_bounds_keep_the_guarantee_and_save_evaluations() {
     cam_check("mitchell-gm", 32, 24);
     cam_check("blobby", 16, 12);
 }
+
+#[test]
+fn bench_table_has_a_row_per_model_and_method() {
+    let models = vec![model("mitchell-gm")];
+    let rows = bench_table(&models, 16, 16).unwrap();
+    let methods: Vec<_> = rows.iter().map(|r| r.method).collect();
+    assert_eq!(
+        methods,
+        [
+            "previewer",
+            "previewer-local",
+            "overshoot-rc",
+            "standard-rc",
+            "local-rc"
+        ]
+    );
+    assert!(rows.iter().all(|r| r.evals > 0 && r.seconds >= 0.0));
+    // The overshooting caster needs fewer evaluations than the standard one.
+    assert!(rows[2].evals < rows[3].evals);
+    assert!(rows[0].first_frame_s.is_some() && rows[0].iterations.is_some());
+}
+
+#[test]
+#[ignore = "timing report at 800x800; run with --ignored --nocapture"]
+fn bench_report_800() {
+    let models: Vec<Model> = ["mitchell-gm", "hypertexture-1", "blobby"]
+        .iter()
+        .map(|n| model(n))
+        .collect();
+    for r in bench_table(&models, 800, 800).unwrap() {
+        println!(
+            "{:16} {:16} {:9.3} s  evals {:>11}  ranges {:>9}  first frame {:?}  iterations {:?}",
+            r.model, r.method, r.seconds, r.evals, r.range_evals, r.first_frame_s, r.iterations
+        );
+    }
+}

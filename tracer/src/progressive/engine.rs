@@ -322,6 +322,9 @@ pub struct Engine<S: Shape> {
     /// Farthest distance from the eye to the domain.
     t_far: f64,
     vcolour: Vec<[u8; 3]>,
+    /// Virtual pixels painted at least once, and how many.
+    painted: Vec<bool>,
+    painted_count: usize,
     depth: Vec<f64>,
     done: Vec<bool>,
     image: Arc<SharedImage>,
@@ -419,6 +422,8 @@ impl<S: Shape> Engine<S> {
             r_near,
             t_far,
             vcolour: vec![BACKGROUND; n],
+            painted: vec![false; n],
+            painted_count: 0,
             depth: vec![f64::NAN; n],
             done: vec![false; n],
             image: Arc::new(SharedImage::new(width, height, BACKGROUND)),
@@ -438,6 +443,10 @@ impl<S: Shape> Engine<S> {
     /// Counters so far.
     pub fn stats(&self) -> Stats {
         self.stats
+    }
+    /// Whether every pixel has been painted at least once: a first full-frame preview.
+    pub fn fully_painted(&self) -> bool {
+        self.painted_count == self.painted.len()
     }
     /// Whether every sample is processed.
     pub fn is_done(&self) -> bool {
@@ -684,6 +693,17 @@ impl<S: Shape> Engine<S> {
     /// Paints a sample with one colour, then refreshes the output pixels it covers
     /// (box-filtered over the `aa x aa` virtual pixels of each).
     fn paint(&mut self, s: &Sample, colour: [u8; 3]) {
+        if self.painted_count < self.painted.len() {
+            for j in s.y..s.y + s.n {
+                for i in s.x..s.x + s.n {
+                    let k = (j * self.vw + i) as usize;
+                    if !self.painted[k] {
+                        self.painted[k] = true;
+                        self.painted_count += 1;
+                    }
+                }
+            }
+        }
         let a = self.opts.aa;
         if a == 1 {
             let c = pack(colour);
