@@ -61,7 +61,7 @@ enum Cmd {
         #[arg(long)]
         arith: Option<String>,
         /// Random cells and segments per model and size.
-        #[arg(long, default_value_t = 40)]
+        #[arg(long, default_value_t = 100)]
         samples: usize,
         #[arg(long, default_value = "bench-out")]
         out: PathBuf,

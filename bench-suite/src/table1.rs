@@ -22,7 +22,7 @@ use tracer::render::{render_kind, RenderOptions, RenderResult};
 use tracer::shape::Shape;
 
 /// Default fraction of the paper's resolution per axis.
-pub const DEFAULT_SCALE: f64 = 0.125;
+pub const DEFAULT_SCALE: f64 = 0.1;
 /// Default per-cell budget in seconds (without `--full`).
 pub const DEFAULT_BUDGET: f64 = 10.0;
 /// Default per-cell budget in seconds with `--full`.
@@ -702,34 +702,38 @@ fn mask_summary(row: &Row) -> String {
     let Some(rk) = row.reference else {
         return "not checked (all stopped)".into();
     };
-    let bad: Vec<String> = row
+    let differ: Vec<String> = row
         .cells
         .iter()
         .filter_map(|c| match c.mask_diff {
-            Some(n) if n > 0 => Some(format!(
-                "{} {n} px ({} unconfirmed hits{})",
-                c.kind.label(),
-                c.unconfirmed_hits,
-                if c.missed_roots > 0 {
-                    format!(", **{} MISSED ROOTS**", c.missed_roots)
-                } else {
-                    String::new()
-                }
-            )),
-            _ if c.missed_roots > 0 => Some(format!(
-                "**{} {} MISSED ROOTS**",
-                c.kind.label(),
-                c.missed_roots
-            )),
+            Some(n) if n > 0 => Some(format!("{} {n}", c.kind.label())),
             _ => None,
         })
         .collect();
-    let unchecked = row.cells.iter().filter(|c| c.mask_diff.is_none()).count();
-    let mut out = if bad.is_empty() {
+    let unconfirmed: Vec<String> = row
+        .cells
+        .iter()
+        .filter(|c| c.unconfirmed_hits > 0)
+        .map(|c| format!("{} {}", c.kind.label(), c.unconfirmed_hits))
+        .collect();
+    let missed: Vec<String> = row
+        .cells
+        .iter()
+        .filter(|c| c.missed_roots > 0)
+        .map(|c| format!("{} {}", c.kind.label(), c.missed_roots))
+        .collect();
+    let mut out = if differ.is_empty() {
         format!("agree (vs {})", rk.label())
     } else {
-        format!("**DIFFER** vs {}: {}", rk.label(), bad.join(", "))
+        format!("**DIFFER** px vs {}: {}", rk.label(), differ.join(", "))
     };
+    if !unconfirmed.is_empty() {
+        let _ = write!(out, "; unconfirmed hits: {}", unconfirmed.join(", "));
+    }
+    if !missed.is_empty() {
+        let _ = write!(out, "; **MISSED ROOTS: {}**", missed.join(", "));
+    }
+    let unchecked = row.cells.iter().filter(|c| c.mask_diff.is_none()).count();
     if unchecked > 0 {
         let _ = write!(out, "; {unchecked} stopped, unchecked");
     }

@@ -43,7 +43,7 @@ pub struct Settings {
 impl Default for Settings {
     fn default() -> Self {
         Settings {
-            samples: 40,
+            samples: 100,
             sizes: [0.25, 1.0 / 16.0, 1.0 / 64.0],
             grid: 9,
             random: 256,
@@ -278,6 +278,17 @@ pub fn measure_model<S: Shape + ?Sized>(
         .collect()
 }
 
+/// Three significant digits, without exponent noise for the usual range.
+fn sig(x: f64) -> String {
+    if x >= 100.0 {
+        format!("{x:.0}")
+    } else if x >= 10.0 {
+        format!("{x:.1}")
+    } else {
+        format!("{x:.2}")
+    }
+}
+
 fn fmt_ratio(r: &Ratio) -> String {
     if r.finite == 0 {
         if r.unbounded > 0 {
@@ -285,7 +296,7 @@ fn fmt_ratio(r: &Ratio) -> String {
         }
         return "n/a".into();
     }
-    let mut s = format!("{:.2}", r.mean);
+    let mut s = format!("{} ({})", sig(r.mean), sig(r.median));
     if r.unbounded > 0 {
         s.push_str(&format!(" ({} inf)", r.unbounded));
     }
@@ -295,7 +306,7 @@ fn fmt_ratio(r: &Ratio) -> String {
 /// Runs the tightness study over `models` and renders it as Markdown.
 pub fn run(models: &[tracer::shape::Model], kinds: &[ArithKind], s: &Settings) -> String {
     let mut out = String::new();
-    out.push_str("## Range tightness: mean computed width / sampled true width\n\n");
+    out.push_str("## Range tightness: computed width / sampled true width, mean (median)\n\n");
     out.push_str(&format!(
         "True range per sample: min/max of f64 evaluations on a {g}x{g}x{g} grid plus {r} random \
          points (cells), or {n} evenly spaced points (ray segments). This is an inner bound of the \
