@@ -181,7 +181,8 @@ fn prod(a: f64, b: f64) -> (f64, f64) {
     let exact = if p == 0.0 {
         a == 0.0 || b == 0.0
     } else {
-        p.abs() >= f64::MIN_POSITIVE && p.is_finite() && sig_bits(a) + sig_bits(b) <= 53
+        // Strictly above: a rounded `p > MIN_POSITIVE` implies an exact product above it.
+        p.abs() > f64::MIN_POSITIVE && p.is_finite() && sig_bits(a) + sig_bits(b) <= 53
     };
     (p, if exact { 0.0 } else { err(p) })
 }
@@ -765,5 +766,87 @@ impl Range for Aa {
         // Both are sound enclosures, so their intersection is too.
         let (blo, bhi) = self.bounds();
         (lo.max(blo), hi.min(bhi))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use arith_core::round::{two_prod, ETA};
+    use astro_float::{BigFloat, RoundingMode};
+    use proptest::prelude::*;
+
+    /// Floats of every magnitude, short significands included (exact products).
+    fn any_f64() -> impl Strategy<Value = f64> {
+        prop_oneof![
+            proptest::num::f64::NORMAL | proptest::num::f64::SUBNORMAL | proptest::num::f64::ZERO,
+            (-1000i64..1000, -60i32..60).prop_map(|(m, e)| m as f64 * 2f64.powi(e)),
+            (-1000i64..1000, -1080i32..-1000).prop_map(|(m, e)| m as f64 * 2f64.powi(e)),
+        ]
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(4096))]
+
+        /// `prod`'s bound covers the exact FMA residual, and "exact" (bound 0) is never
+        /// claimed for an inexact product.
+        #[test]
+        fn prod_error_bound_is_sound(a in any_f64(), b in any_f64()) {
+            let (p, e) = prod(a, b);
+            prop_assert_eq!(p.to_bits(), (a * b).to_bits());
+            if !p.is_finite() {
+                prop_assert_eq!(e, f64::INFINITY);
+            } else if e == 0.0 && a != 0.0 && b != 0.0 {
+                // Scaling the smaller factor by 2^600 (exact) moves a tiny product far
+                // from underflow, where the FMA residual is exact: it must be 0.
+                let s = if p.abs() > 1e-290 { 1.0 } else { 2f64.powi(600) };
+                let (a, b) = if a.abs() < b.abs() { (a * s, b) } else { (a, b * s) };
+                let (q, r) = two_prod(a, b);
+                prop_assert!(r == 0.0 && q == p * s, "{a} * {b} claimed exact");
+            } else if e == 0.0 {
+                prop_assert_eq!(p, 0.0);
+            } else if p.abs() > 1e-290 {
+                let (_, r) = two_prod(a, b);
+                prop_assert!(r.abs() <= e, "{a} * {b}: residual {r} > bound {e}");
+            } else {
+                prop_assert!(e >= ETA);
+            }
+        }
+
+        /// `sum_up`/`sum_down` bracket the exact sum, exactly when it is a float.
+        #[test]
+        fn directed_sums_bracket(a in any_f64(), b in any_f64()) {
+            let (s, t) = two_sum(a, b);
+            let (u, d) = (sum_up(a, b), sum_down(a, b));
+            if s.is_finite() {
+                if t == 0.0 {
+                    prop_assert!(u == s && d == s);
+                } else if t > 0.0 {
+                    prop_assert!(u == s.next_up() && d == s);
+                } else {
+                    prop_assert!(u == s && d == s.next_down());
+                }
+            } else {
+                prop_assert!(u == f64::INFINITY && d == f64::NEG_INFINITY);
+            }
+        }
+
+        /// The error accumulator's bound is at least the exact sum of `|terms|`.
+        #[test]
+        fn err_acc_bounds_exact_sum(v in proptest::collection::vec(any_f64(), 0..40)) {
+            const P: usize = 4096;
+            let mut acc = ErrAcc::default();
+            let mut exact = BigFloat::from_f64(0.0, P);
+            for &x in &v {
+                acc.add(x);
+                exact = exact.add(&BigFloat::from_f64(x.abs(), P), P, RoundingMode::None);
+            }
+            let b = acc.bound();
+            prop_assert!(b >= 0.0);
+            prop_assert!(
+                exact.cmp(&BigFloat::from_f64(b, P)).is_some_and(|c| c <= 0),
+                "bound {b} below the exact sum {exact}"
+            );
+        }
     }
 }
