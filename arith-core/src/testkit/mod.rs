@@ -74,6 +74,10 @@ pub use proptest;
 /// ```ignore
 /// arith_core::range_test_suite!(suite_name, RangeType, affine = true);  // or false
 /// ```
+/// A compiled example (any type expression works, `RevAa<3>` included):
+/// ```
+/// arith_core::range_test_suite!(ia_suite, arith_ia::Interval, affine = false);
+/// ```
 ///
 /// Expands to `mod suite_name { ... }` (with `use super::*;`, so a type imported at the
 /// call site resolves) holding these `#[test]`s:
