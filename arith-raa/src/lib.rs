@@ -343,11 +343,13 @@ impl<const N: usize> Real for Raa<N> {
         }
         // h stands for ½W² in the radius; its own rounding (<= U ww/2 + ETA) is in r.
         let main = h + tx0.abs() * self.acc;
-        Raa {
-            x0: c0,
-            xs,
-            acc: up_abs(main + U * r, k_mul(N)),
+        let acc = up_abs(main + U * r, k_mul(N));
+        if !acc.is_finite() {
+            // Near the overflow threshold the rounding bookkeeping of the longer
+            // formula can overflow first; x * x is the sound, never-wider answer.
+            return *self * *self;
         }
+        Raa { x0: c0, xs, acc }
     }
 
     fn powi(&self, n: i32) -> Self {

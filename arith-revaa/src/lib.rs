@@ -365,11 +365,13 @@ impl<const N: usize> Real for RevAa<N> {
         }
         // h stands for ½W² in the radius; its own rounding (<= U ww/2 + ETA) is in r.
         let main = h + tx0.abs() * self.e;
-        RevAa {
-            x0: c0,
-            xs,
-            e: up_abs(main + U * r, k_mul(N)),
+        let e = up_abs(main + U * r, k_mul(N));
+        if !e.is_finite() {
+            // Near the overflow threshold the rounding bookkeeping of the longer
+            // formula can overflow first; x * x is the sound, never-wider answer.
+            return *self * *self;
         }
+        RevAa { x0: c0, xs, e }
     }
 
     fn powi(&self, n: i32) -> Self {
