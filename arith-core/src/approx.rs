@@ -121,17 +121,17 @@ pub fn powi(a: f64, b: f64, n: i32) -> Approx {
     let ap = if odd && a < 0.0 {
         // Here 0 < -a <= b: concave on [a, 0], convex on [0, b].
         let t = odd_pow_t(nu);
-        let alpha = if -a >= t * b {
+        let alpha = flush(if -a >= t * b {
             nf * (t * b).powi(n - 1)
         } else {
             pow_secant(a, b, nu)
-        };
+        });
         let p = stat(alpha);
         let (l1, h1) = bound_piece(&f, &df, alpha, a, 0.0, -p, false);
         let (l2, h2) = bound_piece(&f, &df, alpha, 0.0, b, p, true);
         finish(alpha, l1.min(l2), h1.max(h2))
     } else {
-        let alpha = pow_secant(a, b, nu);
+        let alpha = flush(pow_secant(a, b, nu));
         let (lo, hi) = bound_piece(&f, &df, alpha, a, b, stat(alpha), true);
         finish(alpha, lo, hi)
     };
@@ -168,19 +168,19 @@ pub fn sqrt(a: f64, b: f64) -> Approx {
     };
     let sb = b.sqrt();
     let ap = if a >= 0.0 {
-        let alpha = 1.0 / (a.sqrt() + sb);
+        let alpha = flush(1.0 / (a.sqrt() + sb));
         let p = 0.25 / (alpha * alpha);
         let (lo, hi) = bound_piece(&f, &df, alpha, a, b, p, false);
         finish(alpha, lo, hi)
     } else {
         let l = -a;
-        let alpha = if l <= 0.25 * b {
+        let alpha = flush(if l <= 0.25 * b {
             1.0 / sb
         } else if l <= b {
             0.5 / l.sqrt()
         } else {
             sb / (b - a)
-        };
+        });
         // [a, 0]: g = -alpha*x is linear; [0, b]: concave.
         let ga = g_enc((0.0, 0.0), alpha, a);
         let (l2, h2) = bound_piece(&f, &df, alpha, 0.0, b, 0.25 / (alpha * alpha), false);
@@ -210,17 +210,21 @@ pub fn recip(a: f64, b: f64) -> Approx {
     let f = recip_enc;
     let df = |x: f64| {
         let (x2l, x2h) = (mul_lo(x, x).max(0.0), mul_hi(x, x));
-        (-round::div_up(1.0, x2l), -round::div_down(1.0, x2h))
+        (
+            -round::div_up(1.0, x2l),
+            // -1/x^2 < 0 (the rounded bound can come out as +2^-1074).
+            (-round::div_down(1.0, x2h)).min(0.0),
+        )
     };
     let cheb = {
-        let alpha = -(1.0 / a) / b;
+        let alpha = flush(-(1.0 / a) / b);
         let (lo, hi) = bound_piece(&f, &df, alpha, a, b, a.sqrt() * b.sqrt(), true);
         finish(alpha, lo, hi)
     };
     if !cheb.is_entire() && approx_min(&cheb, a, b) > 0.0 {
         return cheb;
     }
-    let alpha = -(1.0 / b) / b;
+    let alpha = flush(-(1.0 / b) / b);
     let (lo, hi) = bound_piece(&f, &df, alpha, a, b, b, true);
     or_range(finish(alpha, lo, hi), range)
 }
@@ -239,10 +243,14 @@ pub fn exp(a: f64, b: f64) -> Approx {
         let (lo, hi) = range();
         return Approx::from_range(lo, hi);
     }
-    let f = |x: f64| libm_enclose(x.exp());
+    // e^x > 0: clipping the lower bound keeps slopes near 0 from turning negative.
+    let f = |x: f64| {
+        let (lo, hi) = libm_enclose(x.exp());
+        (lo.max(0.0), hi)
+    };
     let ea = a.exp();
     let w = b - a;
-    let alpha = ea * (w.exp_m1() / w);
+    let alpha = flush(ea * (w.exp_m1() / w));
     if alpha.is_finite() && alpha > 0.0 {
         let (lo, hi) = bound_piece(&f, &f, alpha, a, b, alpha.ln(), true);
         let cheb = finish(alpha, lo, hi);
@@ -250,7 +258,7 @@ pub fn exp(a: f64, b: f64) -> Approx {
             return cheb;
         }
     }
-    let alpha = libm_enclose(ea).0.max(0.0);
+    let alpha = flush(libm_enclose(ea).0.max(0.0));
     let (lo, hi) = bound_piece(&f, &f, alpha, a, b, a, true);
     or_range(finish(alpha, lo, hi), range)
 }
@@ -271,11 +279,11 @@ pub fn ln(a: f64, b: f64) -> Approx {
     let df = |x: f64| (round::div_down(1.0, x), round::div_up(1.0, x));
     let w = b - a;
     let r = w / a;
-    let alpha = if r.is_finite() {
+    let alpha = flush(if r.is_finite() {
         r.ln_1p() / w
     } else {
         (b.ln() - a.ln()) / w
-    };
+    });
     let (lo, hi) = bound_piece(&f, &df, alpha, a, b, 1.0 / alpha, false);
     or_range(finish(alpha, lo, hi), range)
 }
@@ -319,7 +327,7 @@ pub fn abs(a: f64, b: f64) -> Approx {
     }
     // |alpha| <= 1 in floating point too (|fl(a+b)| <= fl(b-a)), so g = |x| - alpha*x
     // >= 0, with its maximum at an end.
-    let alpha = ((a + b) / (b - a)).clamp(-1.0, 1.0);
+    let alpha = flush(((a + b) / (b - a)).clamp(-1.0, 1.0));
     let ga = g_enc((-a, -a), alpha, a);
     let gb = g_enc((b, b), alpha, b);
     finish(alpha, 0.0, ga.1.max(gb.1))
@@ -444,6 +452,18 @@ pub fn range_cos(a: f64, b: f64) -> (f64, f64) {
 const EXACT_MIN: f64 = 1.0e-280;
 /// Factors below this magnitude can be split (Veltkamp) without overflow.
 const SPLIT_MAX: f64 = 1.0e299;
+/// Factors at least this large split without underflow.
+const FACTOR_MIN: f64 = 1.0e-290;
+
+/// A slope too small to matter (subnormal) is replaced by 0: a subnormal `alpha` carries
+/// few significant bits, so `alpha*x` would only add rounding noise.
+fn flush(alpha: f64) -> f64 {
+    if alpha.abs() < f64::MIN_POSITIVE {
+        0.0
+    } else {
+        alpha
+    }
+}
 
 /// The exact error `a*b - p` of `p = fl(a*b)`, for `EXACT_MIN <= |p|` and
 /// `|a|, |b| < SPLIT_MAX`: one FMA where the target has it, else Dekker's product
@@ -472,7 +492,13 @@ fn mul_pair(a: f64, b: f64) -> (f64, f64) {
         return (0.0, 0.0);
     }
     let p = a * b;
-    if p.is_finite() && p.abs() >= EXACT_MIN && a.abs() < SPLIT_MAX && b.abs() < SPLIT_MAX {
+    let (ma, mb) = (a.abs(), b.abs());
+    // Normal, splittable factors and a product far from underflow: the error term is exact.
+    if p.is_finite()
+        && p.abs() >= EXACT_MIN
+        && (FACTOR_MIN..SPLIT_MAX).contains(&ma)
+        && (FACTOR_MIN..SPLIT_MAX).contains(&mb)
+    {
         let e = prod_err(a, b, p);
         // Selects rather than branches: the sign of `e` is data-dependent noise.
         let (dn, upv) = (p.next_down(), p.next_up());
@@ -826,6 +852,7 @@ fn trig_approx(t: Trig, a: f64, b: f64) -> Approx {
         Trig::Cos => -m.sin() * sinc,
     }
     .clamp(-1.0, 1.0);
+    let alpha = flush(alpha);
     let inflection = match t {
         Trig::Sin => 0.0,
         Trig::Cos => FRAC_PI_2,

@@ -370,6 +370,29 @@ proptest! {
         check_interval(&[F::Exp], a, a + w, &ts).map_err(TestCaseError::fail)?;
     }
 
+    /// Never needlessly loose: the Chebyshev / min-range / minimax slopes all beat the
+    /// constant approximation, so `delta` is at most half the width of the rigorous range,
+    /// up to the rounding of `g = f - alpha*x` (a few ulps of `|f| + |alpha*x|`).
+    /// A bounded range also means a bounded approximation.
+    #[test]
+    fn delta_at_most_half_the_range((a, b) in interval()) {
+        for f in ALL {
+            let Some((lo, hi)) = range_of(f, a, b) else { continue };
+            if !(lo.is_finite() && hi.is_finite()) {
+                continue;
+            }
+            let ap = approx_of(f, a, b);
+            prop_assert!(!ap.is_entire(), "{f:?} on [{a:e}, {b:e}]: entire, range ({lo}, {hi})");
+            let ax = if ap.alpha == 0.0 { 0.0 } else { ap.alpha.abs() * a.abs().max(b.abs()) };
+            let scale = lo.abs() + hi.abs() + ax;
+            let tol = 1e-14 * scale + 1e-300;
+            prop_assert!(
+                ap.delta <= 0.5 * (hi - lo) + tol,
+                "{f:?} on [{a:e}, {b:e}]: {ap:?} vs range ({lo}, {hi})"
+            );
+        }
+    }
+
     /// No field is ever NaN, for any bit pattern (NaN, infinities, reversed ends included).
     #[test]
     fn never_nan_on_arbitrary_bits(a in any::<f64>(), b in any::<f64>(), n in any::<i32>()) {
