@@ -11,8 +11,8 @@ pub mod engine;
 pub mod window;
 
 pub use engine::{
-    prime_factors_desc, raycast, trace_cone, Caster, ChildStart, ConeEnd, Engine, Options, Plan,
-    Rect, SharedImage, Stats, Step,
+    prime_factors_desc, raycast, trace_cone, trace_cone_local, Caster, ChildStart, ConeEnd, Engine,
+    Options, Plan, Rect, SharedImage, Stats, Step,
 };
 
 use crate::shape::Model;
@@ -45,7 +45,7 @@ pub struct PreviewArgs {
     /// Start child cones as eq. (8) of the paper instead of the guaranteed radial rule.
     #[arg(long)]
     pub paper_child_start: bool,
-    /// Local Lipschitz bounds per ray segment for the terminal rays (past the paper).
+    /// Local Lipschitz bounds per cone and ray segment (past the paper).
     #[arg(long)]
     pub local: bool,
     /// No window: refine to completion, printing each level transition.
