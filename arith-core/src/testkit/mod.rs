@@ -17,7 +17,7 @@
 //! // For a type with a const parameter, any type expression works:
 //! arith_core::range_test_suite!(revaa3, arith_revaa::RevAa<3>, affine = true);
 //! ```
-//! This generates a module `aa_suite` of `#[test]`s (see [`range_test_suite!`]).
+//! This generates a module `aa_suite` of `#[test]`s (see [`range_test_suite!`](crate::range_test_suite!)).
 //!
 //! # What "sound" means in the checks
 //!
