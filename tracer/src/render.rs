@@ -327,6 +327,7 @@ fn render_tile<A: Arithmetic, S: Shape + ?Sized>(
         let hit = first_root::<A, S>(shape, o, d, t0, t1, params, &mut rs);
         st.range_evals += rs.range_evals;
         st.pruned_empty += rs.pruned_empty;
+        st.point_evals += rs.point_evals;
         let Some(t) = hit else {
             return;
         };
@@ -402,5 +403,6 @@ fn shadowed<A: Arithmetic, S: Shape + ?Sized>(
     };
     let hit = first_root::<A, S>(shape, start, l, t0, t1, &sp, &mut rs).is_some();
     st.range_evals += rs.range_evals;
+    st.point_evals += rs.point_evals;
     hit
 }
