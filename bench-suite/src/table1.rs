@@ -128,6 +128,9 @@ pub struct Cell {
     pub kind: ArithKind,
     /// Wall time of every completed run, seconds.
     pub runs: Vec<f64>,
+    /// CPU seconds (user + system, all threads) of every completed run, where the OS
+    /// tells (Linux); robust to other load on a shared machine, unlike wall time.
+    pub cpu_runs: Vec<f64>,
     /// Median of `runs` (or the time when stopped).
     pub seconds: f64,
     /// Stopped by the budget: `seconds` is a lower bound.
@@ -149,6 +152,10 @@ pub struct Cell {
 }
 
 impl Cell {
+    /// Whether more than 1% of the pixels are unconfirmed hits (see [`Cell::unconfirmed_hits`]).
+    pub fn spurious(&self) -> bool {
+        self.unconfirmed_hits as f64 > 0.01 * self.pixels as f64
+    }
     /// Range evaluations (rays and cells) per pixel.
     pub fn evals_per_pixel(&self) -> f64 {
         (self.ray_evals + self.cell_evals) as f64 / self.pixels.max(1) as f64
@@ -236,6 +243,19 @@ pub fn op_counts(m: PaperModel) -> OpCounts {
     count_ops(|| m.eval(Counter(0.3), Counter(0.2), Counter(0.1))).1
 }
 
+/// User plus system CPU time of this process, all threads, from `/proc/self/stat`
+/// (Linux; clock ticks taken as 100 per second, the kernel's `USER_HZ` on every mainstream
+/// architecture). `None` elsewhere.
+pub fn process_cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // Fields after the command name in parentheses start at field 3 (state).
+    let rest = &stat[stat.rfind(')')? + 1..];
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let utime: f64 = f.get(11)?.parse().ok()?;
+    let stime: f64 = f.get(12)?.parse().ok()?;
+    Some((utime + stime) / 100.0)
+}
+
 fn median(v: &[f64]) -> f64 {
     let mut s = v.to_vec();
     s.sort_by(f64::total_cmp);
@@ -296,6 +316,7 @@ pub fn run(opts: &Options) -> Result<Report, String> {
             .map(|&kind| Cell {
                 kind,
                 runs: Vec::new(),
+                cpu_runs: Vec::new(),
                 seconds: 0.0,
                 stopped: false,
                 ray_evals: 0,
@@ -317,15 +338,19 @@ pub fn run(opts: &Options) -> Result<Report, String> {
                 if cells[k].stopped {
                     continue;
                 }
+                let cpu0 = process_cpu_seconds();
                 let res = render_once(m, kind, (w, h), opts.budget, opts.culling)?;
+                let cpu = process_cpu_seconds().zip(cpu0).map(|(b, a)| b - a);
                 let secs = res.stats.wall.as_secs_f64();
                 let c = &mut cells[k];
                 if res.stats.cut {
                     c.stopped = true;
                     c.runs.clear();
+                    c.cpu_runs.clear();
                     c.seconds = secs.max(opts.budget.as_secs_f64());
                 } else {
                     c.runs.push(secs);
+                    c.cpu_runs.extend(cpu);
                 }
                 if opts.verbose {
                     eprintln!(
@@ -573,7 +598,8 @@ pub fn markdown(r: &Report) -> String {
             row.width, row.height, row.ops
         );
         for c in &row.cells {
-            let _ = write!(s, " {} |", fmt_secs(c));
+            let mark = if c.spurious() { " †" } else { "" };
+            let _ = write!(s, " {}{mark} |", fmt_secs(c));
         }
         if r.kinds.contains(&ArithKind::Revaa) {
             for k in r.kinds.iter().filter(|&&k| k != ArithKind::Revaa) {
@@ -603,6 +629,37 @@ pub fn markdown(r: &Report) -> String {
             }
             let _ = writeln!(s, " source not available |");
         }
+    }
+    if r.rows
+        .iter()
+        .any(|row| row.cells.iter().any(Cell::spurious))
+    {
+        let _ = writeln!(
+            s,
+            "\n† More than 1% of the pixels are unconfirmed hits: this arithmetic reported a \
+             possible root (a segment at the root precision whose range still holds 0) on rays \
+             that another arithmetic proved root-free, and stopped there. Its image is wrong \
+             there and its time is not comparable: it did less work, not better work."
+        );
+    }
+    let wall: f64 = r
+        .rows
+        .iter()
+        .flat_map(|row| row.cells.iter().flat_map(|c| c.runs.iter()))
+        .sum();
+    let cpu: f64 = r
+        .rows
+        .iter()
+        .flat_map(|row| row.cells.iter().flat_map(|c| c.cpu_runs.iter()))
+        .sum();
+    if wall > 0.0 && cpu > 0.0 {
+        let _ = writeln!(
+            s,
+            "\nCPU use during the completed renders: {:.2} cores on average of {cores} \
+             (CPU seconds / wall seconds; below {cores} means the machine was shared or the work \
+             did not parallelise). The CSV has each cell's median CPU seconds.",
+            cpu / wall
+        );
     }
     // Range evaluations.
     let _ = writeln!(
@@ -746,7 +803,7 @@ pub fn csv(r: &Report) -> String {
         "model,arith,width,height,ops_all,ops_nonaffine,ops_mul,paper_ops_all,paper_ops_nonaffine,\
          paper_ops_mul,seconds_median,runs,stopped,budget_s,range_evals_per_pixel,ray_evals,cell_evals,\
          hits,ratio_to_revaa,paper_width,paper_height,paper_seconds,speedup_vs_paper,mask_reference,\
-         mask_diff_pixels,missed_roots,unconfirmed_hits\n",
+         mask_diff_pixels,missed_roots,unconfirmed_hits,cpu_seconds_median\n",
     );
     for row in &r.rows {
         for c in &row.cells {
@@ -759,7 +816,7 @@ pub fn csv(r: &Report) -> String {
             let runs: Vec<String> = c.runs.iter().map(|x| format!("{x:.6}")).collect();
             let _ = writeln!(
                 s,
-                "{},{},{},{},{},{},{},{},{},{},{:.6},{},{},{},{:.3},{},{},{},{},{},{},{},{},{},{},{},{}",
+                "{},{},{},{},{},{},{},{},{},{},{:.6},{},{},{},{:.3},{},{},{},{},{},{},{},{},{},{},{},{},{}",
                 row.model.name(),
                 c.kind.name(),
                 row.width,
@@ -787,6 +844,7 @@ pub fn csv(r: &Report) -> String {
                 c.mask_diff.map_or(String::new(), |n| n.to_string()),
                 c.missed_roots,
                 c.unconfirmed_hits,
+                if c.cpu_runs.is_empty() { String::new() } else { format!("{:.2}", median(&c.cpu_runs)) },
             );
         }
     }
