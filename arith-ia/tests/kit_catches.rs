@@ -2,7 +2,7 @@
 //! `Interval` ("mutants") are run through the kit's checks, which must fail.
 
 use arith_core::testkit::{checks, Bin};
-use arith_core::{Range, Real};
+use arith_core::{Linear, Range, Real};
 use arith_ia::Interval;
 use core::ops::{Add, Div, Mul, Neg, Sub};
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -11,7 +11,8 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 /// 1: `+` rounds to nearest (no outward rounding);
 /// 2: `sqr` is `[lo^2, hi^2]` sorted (wrong across 0);
 /// 3: `exp` is plain libm `exp` at both ends, unwidened;
-/// 4: `sin` uses the end values only (misses interior extrema).
+/// 4: `sin` uses the end values only (misses interior extrema);
+/// 5: `linear_part` claims the midpoint with no error (`f1 = e = 0`).
 #[derive(Clone, Copy, Debug)]
 struct Mutant<const M: u8>(Interval);
 
@@ -139,6 +140,14 @@ impl<const M: u8> Range for Mutant<M> {
     fn bounds(&self) -> (f64, f64) {
         self.0.bounds()
     }
+    fn linear_part(&self) -> Option<Linear> {
+        let (lo, hi) = self.0.bounds();
+        (M == 5 && lo.is_finite() && hi.is_finite() && lo < hi).then_some(Linear {
+            f0: lo * 0.5 + hi * 0.5,
+            f1: 0.0,
+            e: 0.0,
+        })
+    }
 }
 
 /// Whether `f` panics with a message containing `why` (so a mutant fails for the
@@ -185,6 +194,11 @@ fn unwidened_libm_exp_is_caught() {
 #[test]
 fn missed_sine_extrema_are_caught() {
     assert!(fails(|| checks::check_unary_named::<Mutant<4>>("sin", 256)));
+}
+
+#[test]
+fn false_linear_part_is_caught() {
+    assert!(fails(|| checks::check_linear_part::<Mutant<5>>(256)));
 }
 
 #[test]

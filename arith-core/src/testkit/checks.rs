@@ -458,3 +458,80 @@ pub fn check_correlation<R: Range>(default_cases: u32) {
         },
     );
 }
+
+/// LINEAR PART (affine forms, used by argument pruning): when
+/// [`Range::linear_part`] gives `f0 + f1*eps1 ± e`, then fixing input 0 at
+/// `x0 = mid0 + rad0*eps1` and the other inputs anywhere in their ranges, the exact
+/// value lies in `[f0 + f1*eps1 - e, f0 + f1*eps1 + e]` (checked in multi-precision).
+/// Forms returning `None` are skipped (counted, not failed).
+pub fn check_linear_part<R: Range>(default_cases: u32) {
+    let ranges = prop_oneof![3 => range_tree_exact(), 1 => range_tree()];
+    let s = (
+        expr_strategy(6, 3),
+        vec![ranges.clone(), ranges.clone(), ranges],
+        eps_value(),
+    )
+        .prop_flat_map(|(expr, ranges, eps1)| {
+            let pts = vec![points_in(&ranges); 3];
+            (Just(expr), Just(ranges), Just(eps1), pts)
+        });
+    let name = format!("{}: linear part", R::NAME);
+    let stats = Stats::default();
+    run(&name, default_cases, s, |(expr, ranges, eps1, pts)| {
+        let inputs: Vec<R> = ranges
+            .iter()
+            .enumerate()
+            .map(|(i, &(lo, hi))| R::input(i, lo, hi))
+            .collect();
+        let v = expr.eval(&inputs);
+        let Some(lin) = v.linear_part() else {
+            return Ok(());
+        };
+        prop_assert!(
+            !lin.f0.is_nan() && !lin.f1.is_nan() && lin.e >= 0.0,
+            "linear part {lin:?} has NaN or negative e"
+        );
+        let (a0, b0) = ranges[0];
+        for pt in &pts {
+            // x0 = mid0 + rad0*eps1 (exact reals), the others at the drawn points.
+            let point = |p: usize| -> Option<Vec<Mp>> {
+                let half = Mp::point_p(0.5, p)?;
+                let (a, b, e) = (
+                    Mp::point_p(a0, p)?,
+                    Mp::point_p(b0, p)?,
+                    Mp::point_p(eps1, p)?,
+                );
+                let x0 = a
+                    .add(&b)?
+                    .mul(&half)?
+                    .add(&b.sub(&a)?.mul(&half)?.mul(&e)?)?;
+                let mut xs = vec![x0];
+                for &x in &pt[1..] {
+                    xs.push(Mp::point_p(x, p)?);
+                }
+                Some(xs)
+            };
+            let Some(r) = point(PREC).and_then(|xs| expr.reference(&xs)) else {
+                continue;
+            };
+            // d = value - (f0 + f1*eps1) must lie in [-e, e].
+            let centre = Mp::point(lin.f0)
+                .and_then(|f0| f0.add(&Mp::point(lin.f1)?.mul(&Mp::point(eps1)?)?));
+            let Some(d) = centre.and_then(|c| r.sub(&c)) else {
+                continue;
+            };
+            match d.verdict(-lin.e, lin.e) {
+                Verdict::Outside => {
+                    return Err(TestCaseError::fail(format!(
+                        "UNSOUND linear part: {expr}\n  {lin:?} at eps1 = {eps1}\n  value - (f0 + f1*eps1) in {}\n  point {pt:?} (x0 from eps1)\n  ranges {ranges:?}",
+                        d.describe()
+                    )))
+                }
+                v => record(&stats, -lin.e, lin.e, v == Verdict::Inside),
+            }
+        }
+        Ok(())
+    });
+    let checked = stats.checked.load(Relaxed);
+    eprintln!("{name}: {checked} points checked against a linear part");
+}

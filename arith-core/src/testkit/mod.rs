@@ -52,7 +52,8 @@
 //! - [`mp`]: [`Mp`], the reference enclosure, and its [`Verdict`] against bounds.
 //! - [`checks`]: the generic checks behind the macro (`check_binary_op`,
 //!   `check_unary_named`, `check_random_trees`, `check_constants_and_inputs`,
-//!   `check_sqr_not_wider`, `check_joint_inclusion`, `check_correlation`), and
+//!   `check_sqr_not_wider`, `check_joint_inclusion`, `check_correlation`,
+//!   `check_linear_part`), and
 //!   building blocks (`check_case`, `check_point`, `case_strategy`, `run`) for
 //!   crate-specific property tests.
 //!
@@ -87,8 +88,9 @@ pub use proptest;
 /// - `constants_and_inputs`: `constant`, `from_interval`, `input` enclose their values;
 /// - `random_trees`: soundness of random expression trees (depth <= 6, 3 inputs);
 /// - `sqr_not_wider_than_mul`: `x.sqr()` never wider than `x * x`;
-/// - with `affine = true` also `joint_inclusion` and `correlation` (see
-///   [`checks::check_joint_inclusion`], [`checks::check_correlation`]).
+/// - with `affine = true` also `joint_inclusion`, `correlation` and `linear_part` (see
+///   [`checks::check_joint_inclusion`], [`checks::check_correlation`],
+///   [`checks::check_linear_part`]).
 #[macro_export]
 macro_rules! range_test_suite {
     ($suite:ident, $t:ty, affine = $affine:tt) => {
@@ -196,6 +198,10 @@ macro_rules! __range_test_suite_affine {
         #[test]
         fn correlation() {
             __c::check_correlation::<$t>(__c::CASES_OP)
+        }
+        #[test]
+        fn linear_part() {
+            __c::check_linear_part::<$t>(__c::CASES_TREE)
         }
     };
     ($t:ty, false) => {};
