@@ -19,21 +19,30 @@ fn window_refines_for_a_second_then_stops_and_writes_the_image() {
         println!("skipped: Xvfb is not installed");
         return;
     }
-    let display = format!(":{}", 90 + std::process::id() % 500);
-    let mut xvfb = Command::new("Xvfb")
-        .args([
-            display.as_str(),
-            "-screen",
-            "0",
-            "640x480x24",
-            "-nolisten",
-            "tcp",
-        ])
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("start Xvfb");
-    std::thread::sleep(Duration::from_millis(700));
+    // A free display number: Xvfb exits at once when the number is taken.
+    let mut started = None;
+    for k in 0..20 {
+        let display = format!(":{}", 90 + (std::process::id() + 37 * k) % 900);
+        let mut child = Command::new("Xvfb")
+            .args([
+                display.as_str(),
+                "-screen",
+                "0",
+                "640x480x24",
+                "-nolisten",
+                "tcp",
+            ])
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("start Xvfb");
+        std::thread::sleep(Duration::from_millis(700));
+        if child.try_wait().expect("poll Xvfb").is_none() {
+            started = Some((display, child));
+            break;
+        }
+    }
+    let (display, mut xvfb) = started.expect("no free X display for Xvfb");
     // This test binary holds this one test only, so setting the variable races nothing.
     std::env::set_var("DISPLAY", &display);
     let dir = std::env::temp_dir().join(format!("tracer-window-{}", std::process::id()));
