@@ -100,7 +100,7 @@ impl Culler {
         let (mut s0, mut s1) = s_range;
         let mut out = None;
         for _ in 0..3 {
-            if !(s0 <= s1) {
+            if s0.partial_cmp(&s1).is_none_or(|o| o.is_gt()) {
                 return None;
             }
             let mut lo = DVec3::splat(f64::INFINITY);

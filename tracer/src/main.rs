@@ -47,7 +47,7 @@ struct RenderArgs {
     #[arg(long, default_value = "revaa")]
     arith: String,
     /// Image size WxH.
-    #[arg(long, default_value = "640x480")]
+    #[arg(long, default_value = "640x480", allow_hyphen_values = true)]
     size: String,
     /// Output PNG (default: <model>.png).
     #[arg(long)]

@@ -242,6 +242,7 @@ pub fn csg_blending<R: Real>(x: R, y: R, z: R) -> R {
 /// `f = 81 - x^2 - y^2 - z^2 + (3.8 sin(1.5x) + sin(1.111x + 1.1 sin(1.5x)) * 1.624)
 ///    * (3.8 sin(1.5y) + sin(1.111x + 1.1 sin(1.5x)) * 1.299)
 ///    * (3.8 sin(1.5y) + sin(1.111x + 1.1 sin(1.5x)) * 2.598)`.
+///
 /// (The printed noise depends on `x` and `y` only; the paper's operation count suggests
 /// per-axis terms were meant, but we keep the printed text.)
 pub fn sphere_noise<R: Real>(x: R, y: R, z: R) -> R {

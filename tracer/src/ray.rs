@@ -199,7 +199,7 @@ pub fn first_root_in<R: Range, S: Shape + ?Sized>(
     params: &RayParams,
     stats: &mut RayStats,
 ) -> Option<f64> {
-    if !(t0 <= t1) {
+    if t0.partial_cmp(&t1).is_none_or(|o| o.is_gt()) {
         return None;
     }
     let mut stack = [(0.0f64, 0.0f64); STACK];
@@ -277,7 +277,7 @@ mod tests {
             0.0,
         )
         .unwrap();
-        assert!(t0 <= 4.0 && t0 > 4.0 - 1e-12 && t1 >= 6.0 && t1 < 6.0 + 1e-12);
+        assert!((4.0 - 1e-12..=4.0).contains(&t0) && (6.0..6.0 + 1e-12).contains(&t1));
         assert!(clip(
             DVec3::new(2.0, 0.0, 5.0),
             DVec3::new(0.0, 0.0, -1.0),

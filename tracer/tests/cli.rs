@@ -1,0 +1,260 @@
+//! The command-line contract: each user error exits with code 2 and one line on stderr;
+//! a tiny render writes a valid PNG and a valid NPY depth map.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn tracer(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_tracer"))
+        .args(args)
+        .output()
+        .expect("run tracer")
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("tracer-cli-test-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d.join(name)
+}
+
+/// Exit code 2, exactly one non-empty line on stderr, mentioning `needle`.
+fn assert_user_error(args: &[&str], needle: &str) {
+    let out = tracer(args);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{args:?}: stderr {err}");
+    let lines: Vec<&str> = err.lines().filter(|l| !l.trim().is_empty()).collect();
+    assert_eq!(lines.len(), 1, "{args:?}: expected one line, got {err:?}");
+    assert!(
+        lines[0].contains(needle),
+        "{args:?}: '{}' does not mention '{needle}'",
+        lines[0]
+    );
+    assert!(!err.contains("panicked"), "{args:?} panicked");
+}
+
+#[test]
+fn unknown_model() {
+    assert_user_error(&["render", "no-such-model"], "no-such-model");
+}
+
+#[test]
+fn bad_sizes() {
+    let out = tmp("size.png");
+    let out = out.to_str().unwrap();
+    for s in [
+        "0x10", "10x0", "abc", "10x", "x10", "-3x4", "99999x10", "1.5x2",
+    ] {
+        assert_user_error(&["render", "csg", "--size", s, "--out", out], "--size");
+    }
+}
+
+#[test]
+fn bad_number_lists() {
+    let out = tmp("lists.png");
+    let out = out.to_str().unwrap();
+    let cases: &[(&str, &str)] = &[
+        ("--eye", "1,2"),
+        ("--eye", "1,2,x"),
+        ("--look-at", "1,2,3,4"),
+        ("--up", "nan,0,1"),
+        ("--domain", "-1,-1,-1,1,1"),
+        ("--domain", "1,-1,-1,-1,1,1"),
+        ("--fov", "abc"),
+        ("--fov", "-10"),
+        ("--eps", "0"),
+    ];
+    for (flag, v) in cases {
+        assert_user_error(
+            &["render", "csg", "--size", "8x8", "--out", out, flag, v],
+            flag,
+        );
+    }
+}
+
+#[test]
+fn degenerate_camera() {
+    let out = tmp("cam.png");
+    assert_user_error(
+        &[
+            "render",
+            "csg",
+            "--size",
+            "8x8",
+            "--out",
+            out.to_str().unwrap(),
+            "--eye",
+            "0,5,0",
+            "--look-at",
+            "0,0,0",
+        ],
+        "up",
+    );
+}
+
+#[test]
+fn unknown_arith() {
+    assert_user_error(&["render", "csg", "--arith", "quantum"], "--arith");
+    assert_user_error(
+        &[
+            "range",
+            "--expr",
+            "x",
+            "--box",
+            "0,0,0,1,1,1",
+            "--arith",
+            "quantum",
+        ],
+        "--arith",
+    );
+}
+
+#[test]
+fn unwritable_outputs() {
+    assert_user_error(
+        &[
+            "render",
+            "csg",
+            "--size",
+            "8x8",
+            "--out",
+            "/nonexistent-dir-tracer/x.png",
+        ],
+        "--out",
+    );
+    let out = tmp("ok.png");
+    let out = out.to_str().unwrap();
+    assert_user_error(
+        &[
+            "render",
+            "csg",
+            "--size",
+            "8x8",
+            "--out",
+            out,
+            "--depth",
+            "/nonexistent-dir-tracer/d.npy",
+        ],
+        "--depth",
+    );
+    assert_user_error(
+        &[
+            "render", "csg", "--size", "8x8", "--out", out, "--depth", "d.txt",
+        ],
+        "--depth",
+    );
+}
+
+#[test]
+fn bad_formulas() {
+    let out = tmp("f.png");
+    let out = out.to_str().unwrap();
+    for f in ["1 +", "(x", "x ^ y", "foo(x)", ""] {
+        assert_user_error(
+            &["render", "--expr", f, "--size", "8x8", "--out", out],
+            "--expr",
+        );
+        assert_user_error(&["range", "--expr", f, "--box", "0,0,0,1,1,1"], "--expr");
+    }
+}
+
+#[test]
+fn model_and_expr_together_or_neither() {
+    assert_user_error(&["render", "csg", "--expr", "x"], "either");
+    assert_user_error(&["render"], "MODEL");
+}
+
+#[test]
+fn bad_box_for_range() {
+    assert_user_error(&["range", "--expr", "x", "--box", "0,0,0,1,1"], "--box");
+}
+
+#[test]
+fn tiny_render_writes_png_and_npy() {
+    let png = tmp("sphere.png");
+    let npy = tmp("sphere.npy");
+    let out = tracer(&[
+        "render",
+        "--expr",
+        "1 - x^2 - y^2 - z^2",
+        "--size",
+        "20x16",
+        "--out",
+        png.to_str().unwrap(),
+        "--depth",
+        npy.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    for key in [
+        "wall time",
+        "rays",
+        "range evaluations",
+        "point evaluations",
+        "cells culled",
+        "range evals per hit",
+    ] {
+        assert!(stdout.contains(key), "stats lack '{key}': {stdout}");
+    }
+    let img = image::open(&png).expect("valid PNG").to_rgb8();
+    assert_eq!(img.dimensions(), (20, 16));
+    let b = std::fs::read(&npy).unwrap();
+    assert_eq!(&b[..8], b"\x93NUMPY\x01\x00");
+    let hl = u16::from_le_bytes([b[8], b[9]]) as usize;
+    let header = std::str::from_utf8(&b[10..10 + hl]).unwrap();
+    assert!(
+        header.contains("'descr': '<f4'") && header.contains("'shape': (16, 20)"),
+        "{header}"
+    );
+    assert_eq!(b.len(), 10 + hl + 20 * 16 * 4);
+    let depth: Vec<f32> = b[10 + hl..]
+        .chunks(4)
+        .map(|c| f32::from_le_bytes(c.try_into().unwrap()))
+        .collect();
+    // The unit ball seen from the default view: hits near the centre, misses at the corners.
+    let centre = depth[8 * 20 + 10];
+    assert!(centre.is_finite() && centre > 0.0, "{centre}");
+    assert_eq!(depth[0], f32::INFINITY);
+    // Hit pixels differ in colour from the background.
+    assert_ne!(img.get_pixel(10, 8), img.get_pixel(0, 0));
+}
+
+#[test]
+fn range_json_encloses_the_function() {
+    let out = tracer(&[
+        "range",
+        "--expr",
+        "1 - x^2 - y^2 - z^2",
+        "--box",
+        "-1,-1,-1,1,1,1",
+        "--json",
+    ]);
+    assert!(out.status.success());
+    let s = String::from_utf8_lossy(&out.stdout);
+    for a in ["ia", "aa", "raa", "revaa"] {
+        assert!(s.contains(&format!("\"arith\": \"{a}\"")), "{s}");
+    }
+    // Every bound pair must enclose the true range [-2, 1].
+    let nums: Vec<f64> = s
+        .split(|c: char| !(c.is_ascii_digit() || c == '.' || c == '-' || c == 'e'))
+        .filter_map(|t| t.parse().ok())
+        .collect();
+    assert_eq!(nums.len(), 8, "{s}");
+    for p in nums.chunks(2) {
+        assert!(p[0] <= -2.0 && p[1] >= 1.0, "{p:?} in {s}");
+    }
+}
+
+#[test]
+fn list_names_every_paper_model() {
+    let out = tracer(&["list"]);
+    assert!(out.status.success());
+    let s = String::from_utf8_lossy(&out.stdout);
+    for m in tracer::models::PaperModel::ALL {
+        assert!(s.contains(m.name()), "{} missing", m.name());
+    }
+    assert!(s.contains("domain") && s.contains("--eye"));
+}
