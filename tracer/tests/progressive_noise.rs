@@ -157,3 +157,75 @@ fn dual_interval_gradients_enclose_sampled_gradients() {
     }
     let _ = <f64 as Real>::constant(0.0);
 }
+
+/// Verifies Perlin's `L` and `G` (see the doc of `Perlin`): encloses
+/// `M = sum_c max_g |J_c g|` and `sum_c max_g |(J_c g)_x|` with outward-rounded interval
+/// arithmetic over `24^3` sub-boxes of `[0, 1/2]^3` (enough by the reflection symmetry).
+#[test]
+fn perlin_gradient_bounds_are_verified_by_interval_subdivision() {
+    use tracer::noise::GRADS;
+    let iv = |lo: f64, hi: f64| Interval::input(0, lo, hi);
+    let c = Interval::constant;
+    // s and s' are increasing on [0, 1/2] (s' >= 0, s'' = 60 t (1 - t)(1 - 2t) >= 0), so
+    // over [a, b] they range over their end values, widened for the rounding of the f64
+    // evaluation (a few ulps of values <= 2).
+    let mono = |f: fn(f64) -> f64, t: Interval| {
+        let (a, b) = t.bounds();
+        Interval::new(f(a) - 1e-14, f(b) + 1e-14)
+    };
+    let fade = |t: Interval| mono(tracer::noise::fade, t);
+    let dfade = |t: Interval| mono(tracer::noise::fade_deriv, t);
+    let mag = |v: Interval| {
+        let (lo, hi) = v.bounds();
+        lo.abs().max(hi.abs())
+    };
+    let n = 24;
+    let h = 0.5 / n as f64;
+    let (mut worst_l, mut worst_g) = (0.0f64, 0.0f64);
+    for a in 0..n {
+        for b in 0..n {
+            for k in 0..n {
+                let f = [
+                    iv(a as f64 * h, (a + 1) as f64 * h),
+                    iv(b as f64 * h, (b + 1) as f64 * h),
+                    iv(k as f64 * h, (k + 1) as f64 * h),
+                ];
+                let s = f.map(fade);
+                let ds = f.map(dfade);
+                let (mut tot_l, mut tot_g) = (0.0f64, 0.0f64);
+                for corner in 0..8usize {
+                    let sel = [corner & 1, (corner >> 1) & 1, (corner >> 2) & 1];
+                    let w: Vec<Interval> = (0..3)
+                        .map(|q| if sel[q] == 1 { s[q] } else { c(1.0) - s[q] })
+                        .collect();
+                    let dw: Vec<Interval> = (0..3)
+                        .map(|q| if sel[q] == 1 { ds[q] } else { -ds[q] })
+                        .collect();
+                    let d: Vec<Interval> = (0..3).map(|q| f[q] - sel[q] as f64).collect();
+                    let (mut m_l, mut m_g) = (0.0f64, 0.0f64);
+                    for g in GRADS {
+                        let dot = d[0] * g[0] + d[1] * g[1] + d[2] * g[2];
+                        // (J g)_q = (prod of the other two weights) (s'_q-term dot + w_q g_q):
+                        // factored so the shared weights are not counted twice.
+                        let v: Vec<f64> = (0..3)
+                            .map(|q| {
+                                let others = w[(q + 1) % 3] * w[(q + 2) % 3];
+                                mag(others * (dw[q] * dot + w[q] * g[q]))
+                            })
+                            .collect();
+                        let norm = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt() * (1.0 + 1e-12);
+                        m_l = m_l.max(norm);
+                        m_g = m_g.max(v[0]);
+                    }
+                    tot_l += m_l;
+                    tot_g += m_g;
+                }
+                worst_l = worst_l.max(tot_l * (1.0 + 1e-12));
+                worst_g = worst_g.max(tot_g * (1.0 + 1e-12));
+            }
+        }
+    }
+    println!("verified: |grad n| <= {worst_l}, |dn/dx| <= {worst_g}");
+    assert!(worst_l <= Perlin::LIPSCHITZ, "{worst_l} > L");
+    assert!(worst_g <= Perlin::PARTIAL, "{worst_g} > G");
+}
