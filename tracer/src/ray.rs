@@ -163,6 +163,12 @@ pub fn prune<R: Range>(f: &R, t0: f64, t1: f64) -> Option<Option<(f64, f64)>> {
 /// silhouettes, tangent roots and thin features only.
 pub const REFINE: f64 = 1.0 / 1024.0;
 
+/// Whether `[fa, fb]` holds 0 (a sign change or a zero at an end).
+#[inline]
+fn opposite(fa: f64, fb: f64) -> bool {
+    (fa <= 0.0 && fb >= 0.0) || (fa >= 0.0 && fb <= 0.0)
+}
+
 /// `f` at the point `o + t d`.
 #[inline]
 fn point_on_ray<S: Shape + ?Sized>(shape: &S, o: DVec3, d: DVec3, t: f64) -> f64 {
@@ -239,11 +245,25 @@ pub fn first_root_in<R: Range, S: Shape + ?Sized>(
             } else if b - a <= eps {
                 // A sign change at the ends certifies the root; without one (tangent
                 // root, feature thinner than the segment, or an overestimated range near
-                // a miss) keep halving down to `eps * REFINE` before reporting.
+                // a miss) keep halving down to `eps * REFINE` before reporting, unless
+                // the next segment of the same length certifies a root by a sign change
+                // (an overestimated range just before a crossing, common with IA): then
+                // `b` is within one segment of the first root, report it.
                 stats.point_evals += 2;
                 let fa: f64 = point_on_ray(shape, o, d, a);
                 let fb: f64 = point_on_ray(shape, o, d, b);
-                (fa <= 0.0 && fb >= 0.0) || (fa >= 0.0 && fb <= 0.0)
+                if opposite(fa, fb) {
+                    true
+                } else {
+                    let c = (b + (b - a)).min(t1);
+                    if c > b {
+                        stats.point_evals += 1;
+                        if opposite(fb, point_on_ray(shape, o, d, c)) {
+                            return Some(b);
+                        }
+                    }
+                    false
+                }
             } else {
                 false
             };
