@@ -40,7 +40,8 @@ enum Cmd {
 struct RenderArgs {
     /// Model name (see `tracer list`); or give --expr.
     model: Option<String>,
-    /// A formula over x, y, z (f >= 0 inside), e.g. "1 - x^2 - y^2 - z^2".
+    /// A formula over x, y, z (f >= 0 inside), e.g. "1 - x^2 - y^2 - z^2"; its domain
+    /// defaults to [-2, 2]^3 (see --domain), its view frames the domain.
     #[arg(long)]
     expr: Option<String>,
     /// Arithmetic: ia, aa, raa, revaa.

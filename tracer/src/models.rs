@@ -224,7 +224,9 @@ pub fn csg<R: Real>(x: R, y: R, z: R) -> R {
 /// small fields, so the literal solid also fills most of the domain outside the cylinder
 /// `x^2+y^2 <= 0.25`, and swapping the two blends everywhere leaves it empty (we checked
 /// all 16 choices of blend per operator on a grid: only intersection, union, union,
-/// intersection in order of application is bounded); the domain box clips it.
+/// intersection in order of application is bounded); the domain box clips it, so rays
+/// enter the domain inside the solid and the picture shows the boundaries of the holes
+/// (the cylinder and the blended voids) rather than a closed object.
 pub fn csg_blending<R: Real>(x: R, y: R, z: R) -> R {
     let (x2, y2, z2) = (x.sqr(), y.sqr(), z.sqr());
     let b = csg_box(&x2, &y2, &z2);
