@@ -73,7 +73,7 @@ fn blobby_point(p: DVec3) -> f64 {
         let q = (p - b.centre).length_squared();
         let r2 = b.radius * b.radius;
         if q < r2 {
-            let u = 1.0 - q / r2;
+            let u = q * (-1.0 / r2) + 1.0;
             sum += u * u * u * b.strength;
             inside = true;
         } else if !inside {
@@ -85,6 +85,50 @@ fn blobby_point(p: DVec3) -> f64 {
     } else {
         sum - outside
     }
+}
+
+/// Over a box of inputs (known ranges, or `Dual` numbers over intervals), the basis
+/// functions that can matter there: those whose support meets the box (the others add
+/// exactly 0), plus those whose distance term may be the minimum (a blob whose distance
+/// over the box is surely above another's largest cannot be the minimum anywhere in it).
+/// Dropping the rest changes no value, only the work (the paper's clipping of cones
+/// against the supports, and its "localised" evaluation). `None` for points and
+/// unknown types (keep all).
+fn relevant_blobs<R: Real>(x: &R, y: &R, z: &R) -> Option<Vec<bool>> {
+    use crate::lipschitz::Dual;
+    use std::any::Any;
+    let bounds = |v: &R| match known(v) {
+        Known::Range(lo, hi) => Some((lo, hi)),
+        _ => (v as &dyn Any)
+            .downcast_ref::<Dual<arith_ia::Interval>>()
+            .map(|d| (d.v.lo, d.v.hi)),
+    };
+    let (bx, by, bz) = (bounds(x)?, bounds(y)?, bounds(z)?);
+    let lo = DVec3::new(bx.0, by.0, bz.0);
+    let hi = DVec3::new(bx.1, by.1, bz.1);
+    if !(lo.is_finite() && hi.is_finite()) {
+        return None;
+    }
+    // Nearest and farthest distances from each centre to the box, with a relative margin
+    // for rounding (the decisions only need to be conservative).
+    let near_far = |c: DVec3| {
+        let near = (lo - c).max(c - hi).max(DVec3::ZERO).length();
+        let far = (c - lo).abs().max((hi - c).abs()).length();
+        (near * (1.0 - 1e-9), far * (1.0 + 1e-9))
+    };
+    let bl = blobs();
+    let nf: Vec<(f64, f64)> = bl.iter().map(|b| near_far(b.centre)).collect();
+    let u = bl
+        .iter()
+        .zip(&nf)
+        .map(|(b, (_, far))| (far - b.radius).max(0.0))
+        .fold(f64::INFINITY, f64::min);
+    Some(
+        bl.iter()
+            .zip(&nf)
+            .map(|(b, (near, _))| *near < b.radius * (1.0 + 1e-9) || near - b.radius <= u)
+            .collect(),
+    )
 }
 
 fn perlin() -> &'static Perlin {
@@ -139,7 +183,13 @@ impl Shape for GmModel {
                 }
                 let mut sum = R::constant(-0.5);
                 let mut outside: Option<R> = None;
-                for b in blobs() {
+                let relevant = relevant_blobs(&x, &y, &z);
+                for b in blobs()
+                    .iter()
+                    .enumerate()
+                    .filter(|(i, _)| relevant.as_ref().is_none_or(|r| r[*i]))
+                    .map(|(_, b)| b)
+                {
                     let q = (x.clone() - b.centre.x).sqr()
                         + (y.clone() - b.centre.y).sqr()
                         + (z.clone() - b.centre.z).sqr();
