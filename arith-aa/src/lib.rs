@@ -502,11 +502,12 @@ impl Aa {
             return self.clone().mul_aa(self);
         }
         let r2 = mul_up_exact(r, r);
-        // The centre moves by exactly h + t = c - p (TwoSum), so the quadratic part minus
-        // the shift lies in [-(h + t), r2 - (h + t)]: no rounding error of its own.
+        // The centre moves by exactly h - t = c - p (TwoSum: c + t = p + h), so the
+        // quadratic part minus the shift lies in [-(h - t), r2 - (h - t)]: no rounding
+        // error of its own.
         let h = 0.5 * r2;
         let (c, t) = two_sum(p, h);
-        e.add(f64::max(sum_up(h, t), sum_up(sum_up(r2, -h), -t)));
+        e.add(f64::max(sum_up(h, -t), sum_up(sum_up(r2, -h), t)));
         let t = 2.0 * x0;
         let mut terms = Vec::with_capacity(self.terms.len() + 1);
         if t != 0.0 {
