@@ -91,6 +91,15 @@ impl<const N: usize> Raa<N> {
         if a.is_entire() {
             return Self::UNBOUNDED;
         }
+        if a.alpha == 0.0 {
+            // The constant `zeta ± delta`, exact: nothing to round (so `sqrt` of a range
+            // below 0 is exactly `[0, 0]`, as the `Range` contract says).
+            return Raa {
+                x0: a.zeta,
+                xs: [0.0; N],
+                acc: a.delta,
+            };
+        }
         let ax0 = a.alpha * self.x0;
         let x0 = ax0 + a.zeta;
         // |values| whose rounding errors we must cover.
