@@ -285,3 +285,53 @@ fn sqrt_of_negative_range_is_exactly_zero() {
     let z = Raa::<1>::input(0, 0.0, 100.0).sin();
     assert_eq!(z.bounds(), (-1.0, 1.0));
 }
+
+/// `(x - x0)²` written as `x² - 2·x0·x + x0²` (and with `x * x`) over `x0 ± r` for
+/// short-significand `x0`, `r` at every scale, subnormal `r²` included: the affine
+/// parts cancel exactly, so what is left is the quadratic part's own bookkeeping.
+pub fn square_identity<R: Range>(cases: u32) {
+    let stats = checks::Stats::default();
+    let s = (
+        1i64..64,
+        prop_oneof![-1060i32..60, -520i32..-490],
+        1i64..(1i64 << 27),
+        prop_oneof![0i32..70, 0i32..4],
+        any::<bool>(),
+    );
+    checks::run(
+        &format!("{}: square identity", R::NAME),
+        cases,
+        s,
+        |(a, e0, m, dk, mul)| {
+            let x0 = a as f64 * 2f64.powi(e0);
+            let r = m as f64 * 2f64.powi(e0 - 27 - dk);
+            let (lo, hi) = (x0 - r, x0 + r);
+            if !(x0.is_finite() && r > 0.0 && lo < hi && (lo + hi) * 0.5 == x0 && hi - x0 == r) {
+                return Ok(());
+            }
+            let sq = if mul {
+                Expr::bin(Bin::Mul, Expr::Input(0), Expr::Input(0))
+            } else {
+                Expr::un(Un::Sqr, Expr::Input(0))
+            };
+            let e = Expr::bin(
+                Bin::Add,
+                Expr::bin(Bin::Sub, sq, Expr::un(Un::MulF(2.0 * x0), Expr::Input(0))),
+                Expr::Const(x0 * x0),
+            );
+            let case = Case {
+                expr: e,
+                ranges: vec![(lo, hi)],
+                points: vec![vec![lo], vec![hi], vec![x0]],
+            };
+            checks::check_case::<R>(&case, &stats)
+        },
+    );
+    stats.assert_informative(&format!("{}: square identity", R::NAME), 0.5);
+}
+
+#[test]
+fn square_identity_all_scales() {
+    square_identity::<arith_raa::Raa<1>>(3000);
+    square_identity::<arith_raa::Raa<3>>(1000);
+}
