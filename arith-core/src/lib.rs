@@ -59,4 +59,4 @@ pub mod round;
 pub mod testkit;
 
 mod real;
-pub use real::{Real, Range, Arithmetic, Linear};
+pub use real::{Arithmetic, Linear, Range, Real};

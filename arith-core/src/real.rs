@@ -147,7 +147,6 @@ pub trait Arithmetic: Send + Sync + 'static {
     type Cell: Range;
 }
 
-
 impl Real for f64 {
     fn constant(c: f64) -> Self {
         c

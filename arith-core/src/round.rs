@@ -67,13 +67,21 @@ pub fn sub_down(a: f64, b: f64) -> f64 {
 pub fn mul_up(a: f64, b: f64) -> f64 {
     let p = a * b;
     // 0 * inf is NaN: the product of a bound with an unbounded factor is unbounded.
-    if p.is_nan() { f64::INFINITY } else { up(p) }
+    if p.is_nan() {
+        f64::INFINITY
+    } else {
+        up(p)
+    }
 }
 /// A lower bound of `a * b`.
 #[inline]
 pub fn mul_down(a: f64, b: f64) -> f64 {
     let p = a * b;
-    if p.is_nan() { f64::NEG_INFINITY } else { down(p) }
+    if p.is_nan() {
+        f64::NEG_INFINITY
+    } else {
+        down(p)
+    }
 }
 /// An upper bound of `a / b`.
 #[inline]

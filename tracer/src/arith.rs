@@ -16,7 +16,12 @@ pub enum ArithKind {
 
 impl ArithKind {
     /// Every arithmetic, in the paper's table order.
-    pub const ALL: [ArithKind; 4] = [ArithKind::Ia, ArithKind::Aa, ArithKind::Raa, ArithKind::Revaa];
+    pub const ALL: [ArithKind; 4] = [
+        ArithKind::Ia,
+        ArithKind::Aa,
+        ArithKind::Raa,
+        ArithKind::Revaa,
+    ];
 
     /// Command-line name.
     pub fn name(self) -> &'static str {
@@ -43,7 +48,10 @@ impl FromStr for ArithKind {
             .find(|k| k.name().eq_ignore_ascii_case(s))
             .ok_or_else(|| {
                 let names: Vec<_> = ArithKind::ALL.iter().map(|k| k.name()).collect();
-                format!("unknown arithmetic '{s}' (expected one of: {})", names.join(", "))
+                format!(
+                    "unknown arithmetic '{s}' (expected one of: {})",
+                    names.join(", ")
+                )
             })
     }
 }

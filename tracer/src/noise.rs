@@ -15,8 +15,8 @@
 //!
 //! [`crate::shape::Shape::eval`] is generic over [`Real`] only, which cannot say whether
 //! a value is a point or a range. Every `Real` is `'static`, so [`eval_field`] looks at
-//! the concrete type with [`Any`]: `f64`, the arithmetics' ray and cell forms, and
-//! [`Dual`] over those. For any other type (an operation counter, a future arithmetic)
+//! the concrete type with [`Any`]: `f64`, the ray and cell forms of every arithmetic in
+//! [`crate::arith::ArithKind`], and [`Dual`] over those. For any other type (an operation counter)
 //! it returns `1 / 0`, which is `+inf` for points and the whole line for every sound
 //! range: sound, if useless.
 
@@ -38,15 +38,16 @@ pub(crate) fn cast<A: 'static, B: 'static>(v: A) -> Option<B> {
         .and_then(Option::take)
 }
 
-/// Calls `$m!(T)` for each concrete sound range type the tracer evaluates with.
+/// Calls `$m!(T)` for the ray and cell form of every arithmetic in the one list
+/// ([`crate::arith::ArithKind`]), so a new arithmetic needs no line here.
 macro_rules! for_each_range {
     ($m:ident) => {
-        $m!(arith_ia::Interval);
-        $m!(<arith_aa::AaArith as Arithmetic>::Ray);
-        $m!(<arith_raa::RaaArith as Arithmetic>::Ray);
-        $m!(<arith_raa::RaaArith as Arithmetic>::Cell);
-        $m!(<arith_revaa::RevAaArith as Arithmetic>::Ray);
-        $m!(<arith_revaa::RevAaArith as Arithmetic>::Cell);
+        for kind in $crate::arith::ArithKind::ALL {
+            $crate::with_arith!(kind, A => {
+                $m!(<A as Arithmetic>::Ray);
+                $m!(<A as Arithmetic>::Cell);
+            });
+        }
     };
 }
 

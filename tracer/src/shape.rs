@@ -25,7 +25,10 @@ impl Aabb {
     }
     /// The cube `[-r, r]^3`.
     pub fn cube(r: f64) -> Self {
-        Aabb { min: DVec3::splat(-r), max: DVec3::splat(r) }
+        Aabb {
+            min: DVec3::splat(-r),
+            max: DVec3::splat(r),
+        }
     }
 }
 
