@@ -16,6 +16,7 @@ pub mod camera;
 pub mod cull;
 pub mod expr;
 pub mod gm_models;
+pub mod interrupt;
 pub mod lipschitz;
 pub mod models;
 pub mod noise;

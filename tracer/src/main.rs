@@ -1,7 +1,8 @@
 //! `tracer`: reliable ray casting of implicit surfaces from the command line.
 //!
 //! `tracer render`, `tracer range`, `tracer list`, `tracer preview` (see `--help`).
-//! User errors print one line on stderr and exit with code 2.
+//! User errors print one line on stderr and exit with code 2. Ctrl-C stops `render` and
+//! `preview` early: what was computed is written, and the exit code is 130.
 
 use arith_core::{Arithmetic, Range};
 use clap::{Parser, Subcommand};
@@ -110,9 +111,14 @@ fn main() -> ExitCode {
             cmd_list();
             Ok(())
         }
-        Cmd::Preview(a) => tracer::progressive::run_preview(a),
+        Cmd::Preview(a) => {
+            tracer::interrupt::install();
+            tracer::progressive::run_preview(a)
+        }
     };
     match res {
+        // Stopped by Ctrl-C after writing what was computed.
+        Ok(()) if tracer::interrupt::requested() => ExitCode::from(tracer::interrupt::EXIT_CODE),
         Ok(()) => ExitCode::SUCCESS,
         Err(msg) => {
             // One line, whatever the message held.
@@ -274,6 +280,8 @@ fn cmd_render(a: &RenderArgs) -> Result<(), String> {
     opts.pruning = !a.no_pruning;
     opts.shadows = a.shadows;
     opts.progress = true;
+    // Ctrl-C stops starting tiles; the finished ones are written below.
+    opts.cancel = Some(tracer::interrupt::cancel_flag());
     let res = match &target {
         Target::Model(m) => render_kind(kind, &m.shape, &opts)?,
         Target::Expr(t) => render_kind(kind, t, &opts)?,
@@ -281,6 +289,19 @@ fn cmd_render(a: &RenderArgs) -> Result<(), String> {
     write_png(&out, width, height, &res.rgb).map_err(|e| format!("--out: {e}"))?;
     if let Some(d) = &a.depth {
         write_depth(d, width, height, &res.depth).map_err(|e| format!("--depth: {e}"))?;
+    }
+    if res.stats.cut {
+        eprintln!(
+            "interrupted: {} of {} tiles done; the partial image{} written (unfinished tiles \
+             are background, depth +inf)",
+            res.stats.tiles_done,
+            res.stats.tiles_total,
+            if a.depth.is_some() {
+                " and depth were"
+            } else {
+                " was"
+            }
+        );
     }
     println!(
         "{name} {width}x{height} arith={kind} culling={} pruning={} shadows={}",

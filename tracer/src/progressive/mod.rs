@@ -48,7 +48,7 @@ pub struct PreviewArgs {
     /// Local Lipschitz bounds per cone and ray segment (past the paper).
     #[arg(long)]
     pub local: bool,
-    /// No window: refine to completion, printing each level transition.
+    /// No window: refine to completion (or Ctrl-C), printing each level transition.
     #[arg(long)]
     pub headless: bool,
     /// Write a PNG at every level transition into this directory (headless).
@@ -163,7 +163,14 @@ pub fn run_headless<S: crate::shape::Shape>(
     // A snapshot is taken when every sample of a level is processed and before any of
     // the next, as the paper's Figs. 5-7.
     let mut level = 0;
+    // Ctrl-C (see [`crate::interrupt`], installed by the CLI) stops refinement; the image
+    // refined so far is still written to `--out` below.
+    let mut interrupted = false;
     while !engine.is_done() {
+        if crate::interrupt::requested() {
+            interrupted = true;
+            break;
+        }
         if let Some(l) = engine.next_level() {
             if l > level {
                 snap(&engine, level)?;
@@ -173,6 +180,18 @@ pub fn run_headless<S: crate::shape::Shape>(
         engine.step();
     }
     let s = engine.stats();
+    if interrupted {
+        eprintln!(
+            "interrupted: {} iterations, {} evaluations, {:.3} s; writing the image refined so far",
+            s.iterations,
+            s.evals,
+            (start.elapsed() - io).as_secs_f64()
+        );
+        if let Some(out) = &args.out {
+            write_png(&engine.image(), out)?;
+        }
+        return Ok(());
+    }
     println!(
         "done: {} iterations, {} evaluations (+{} for normals, {} range), {:.3} s",
         s.iterations,

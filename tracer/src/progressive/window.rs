@@ -3,11 +3,11 @@
 //!
 //! The display thread (this one: X11 windows belong to the thread that made them) shows
 //! the buffer at a steady frame rate and edits the region of interest: drag with the
-//! left button to set it, right-click to cancel it. Esc or closing the window stops the
-//! refinement. The image is written to `--out` when refinement completes and when it is
-//! stopped early. Ctrl-C cannot be caught without a signal crate (none is allowed), so in
-//! window mode `--out` is also checkpointed every few seconds: an interrupt loses at
-//! most the last few seconds of refinement.
+//! left button to set it, right-click to cancel it. Esc, closing the window or Ctrl-C
+//! (see [`crate::interrupt`]) stops the refinement. The image is written to `--out` when
+//! refinement completes and when it is stopped early; `--out` is also checkpointed every
+//! few seconds, so even a force-quit (a second Ctrl-C) loses at most the last few
+//! seconds of refinement.
 
 use super::{write_png, Engine, PreviewArgs, Rect, SharedImage, Stats};
 use crate::shape::Shape;
@@ -122,7 +122,7 @@ pub fn run_window<S: Shape + 'static>(engine: Engine<S>, args: &PreviewArgs) -> 
             .map(|(x, y)| ((x as u32).min(w - 1), (y as u32).min(h - 1)))
     };
     let result = loop {
-        if !window.is_open() || window.is_key_down(Key::Escape) {
+        if !window.is_open() || window.is_key_down(Key::Escape) || crate::interrupt::requested() {
             break Ok(());
         }
         if args
@@ -195,7 +195,13 @@ pub fn run_window<S: Shape + 'static>(engine: Engine<S>, args: &PreviewArgs) -> 
     }
     println!(
         "{}: {} iterations, {} evaluations, {:.3} s, {} frames",
-        if complete { "complete" } else { "stopped" },
+        if complete {
+            "complete"
+        } else if crate::interrupt::requested() {
+            "interrupted"
+        } else {
+            "stopped"
+        },
         stats.iterations,
         stats.evals,
         start.elapsed().as_secs_f64(),

@@ -1,0 +1,159 @@
+//! Ctrl-C keeps what was computed: `tracer render` and `tracer preview --headless`
+//! interrupted by SIGINT exit with code 130 and still write a decodable image holding the
+//! finished part.
+#![cfg(unix)]
+
+use std::path::PathBuf;
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+use tracer::shade::BACKGROUND;
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("tracer-interrupt-test-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d.join(name)
+}
+
+/// Starts `tracer args`, sends SIGINT after `after`, and waits for it to exit (killing it
+/// and failing if it has not after 30 s, so a broken handler cannot hang the suite).
+fn interrupt(args: &[&str], after: Duration) -> Output {
+    let child = Command::new(env!("CARGO_BIN_EXE_tracer"))
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start tracer");
+    let pid = child.id().to_string();
+    std::thread::sleep(after);
+    let st = Command::new("kill")
+        .args(["-INT", &pid])
+        .status()
+        .expect("run kill");
+    assert!(
+        st.success(),
+        "kill -INT {pid} failed: it exited before the signal"
+    );
+    // Reading the pipes while waiting keeps the child from blocking on a full pipe.
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let _ = tx.send(child.wait_with_output());
+    });
+    let start = Instant::now();
+    loop {
+        if let Ok(out) = rx.try_recv() {
+            return out.expect("wait for tracer");
+        }
+        if start.elapsed() > Duration::from_secs(30) {
+            let _ = Command::new("kill").args(["-KILL", &pid]).status();
+            panic!("tracer {args:?} did not stop within 30 s of SIGINT");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+/// Pixels that are not the background colour (shaded surface).
+fn shaded_pixels(img: &image::RgbImage) -> usize {
+    img.pixels().filter(|p| p.0 != BACKGROUND).count()
+}
+
+#[test]
+fn render_interrupted_writes_the_finished_tiles() {
+    let png = tmp("render.png");
+    let npy = tmp("render.npy");
+    let _ = std::fs::remove_file(&png);
+    let _ = std::fs::remove_file(&npy);
+    let (w, h) = (1400u32, 1400u32);
+    // A bumpy sphere filling the whole frame: every finished pixel is a hit, so any
+    // background pixel comes from a tile the interrupt left unfinished. Tens of CPU
+    // seconds in full, far past the signal.
+    let size = format!("{w}x{h}");
+    let args = [
+        "render",
+        "--expr",
+        "1 - x^2 - y^2 - z^2 + 0.05*sin(30*x)*sin(30*y)*sin(30*z)",
+        "--eye",
+        "0,0,4",
+        "--look-at",
+        "0,0,0",
+        "--fov",
+        "20",
+        "--arith",
+        "ia",
+        "--no-culling",
+        "--size",
+        &size,
+        "--out",
+        png.to_str().unwrap(),
+        "--depth",
+        npy.to_str().unwrap(),
+    ];
+    let out = interrupt(&args, Duration::from_millis(800));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(130), "stderr: {err}");
+    assert!(err.contains("interrupted"), "stderr: {err}");
+    assert!(!err.contains("panicked"), "stderr: {err}");
+
+    let img = image::open(&png).expect("partial PNG decodes").to_rgb8();
+    assert_eq!(img.dimensions(), (w, h));
+    let shaded = shaded_pixels(&img);
+    assert!(shaded > 0, "no finished tile in the partial image");
+    assert!(
+        shaded < (w * h) as usize,
+        "the image is complete: the render was not interrupted"
+    );
+
+    // Depth: NPY float32 (H, W), row-major: every shaded pixel is a hit (finite depth),
+    // and unfinished tiles are +inf although every ray would hit.
+    let bytes = std::fs::read(&npy).expect("partial depth written");
+    assert!(bytes.starts_with(b"\x93NUMPY"), "not an NPY file");
+    let data = &bytes[bytes.len() - 4 * (w * h) as usize..];
+    let depth: Vec<f32> = data
+        .chunks_exact(4)
+        .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+        .collect();
+    for (k, p) in img.pixels().enumerate() {
+        if p.0 != BACKGROUND {
+            assert!(depth[k].is_finite(), "shaded pixel {k} has no depth");
+        }
+    }
+    assert!(
+        depth.iter().any(|d| d.is_infinite()),
+        "the depth map is complete"
+    );
+}
+
+#[test]
+fn headless_preview_interrupted_writes_the_refined_image() {
+    let png = tmp("preview.png");
+    let _ = std::fs::remove_file(&png);
+    // Refining this hypertexture takes tens of seconds at this size; its coarse levels
+    // cover the whole image within a fraction of a second.
+    let args = [
+        "preview",
+        "hypertexture-3",
+        "--headless",
+        "--width",
+        "900",
+        "--height",
+        "900",
+        "--out",
+        png.to_str().unwrap(),
+    ];
+    let out = interrupt(&args, Duration::from_millis(800));
+    let err = String::from_utf8_lossy(&out.stderr);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(130), "stderr: {err}");
+    assert!(err.contains("interrupted"), "stderr: {err}");
+    assert!(
+        !stdout.contains("done:"),
+        "refinement completed before the signal: {stdout}"
+    );
+    let img = image::open(&png)
+        .expect("refined-so-far PNG decodes")
+        .to_rgb8();
+    assert_eq!(img.dimensions(), (900, 900));
+    assert!(
+        shaded_pixels(&img) > 0,
+        "nothing refined in the written image"
+    );
+}
