@@ -341,3 +341,70 @@ pub fn square_identity<R: Range>(cases: u32) {
 fn square_identity_all_scales() {
     square_identity::<arith_aa::Aa>(3000);
 }
+
+/// `(x - x0)(y - y0)` written as `x·y - y0·x - x0·y + x0·y0` over `x0 ± r`, `y0 ± s`
+/// (two inputs) at every scale, subnormal `r·s` included: the affine parts cancel
+/// exactly, what is left is the product's own bookkeeping of its quadratic part.
+pub fn product_identity<R: Range>(cases: u32) {
+    let stats = checks::Stats::default();
+    let scale = || prop_oneof![-1060i32..60, -520i32..-490];
+    let s = (
+        (
+            1i64..64,
+            scale(),
+            1i64..(1i64 << 27),
+            prop_oneof![0i32..70, 0i32..4],
+        ),
+        (
+            -64i64..64,
+            scale(),
+            1i64..(1i64 << 27),
+            prop_oneof![0i32..70, 0i32..4],
+        ),
+    );
+    checks::run(
+        &format!("{}: product identity", R::NAME),
+        cases,
+        s,
+        |((a, ea, m, da), (b, eb, n, db))| {
+            let x0 = a as f64 * 2f64.powi(ea);
+            let r = m as f64 * 2f64.powi(ea - 27 - da);
+            let y0 = b as f64 * 2f64.powi(eb);
+            let s = n as f64 * 2f64.powi(eb - 27 - db);
+            let exact = |c: f64, w: f64| {
+                let (lo, hi) = (c - w, c + w);
+                c.is_finite() && w > 0.0 && lo < hi && (lo + hi) * 0.5 == c && hi - c == w
+            };
+            if !(exact(x0, r) && exact(y0, s)) {
+                return Ok(());
+            }
+            let (x, y) = (Expr::Input(0), Expr::Input(1));
+            let e = Expr::bin(
+                Bin::Add,
+                Expr::bin(
+                    Bin::Sub,
+                    Expr::bin(
+                        Bin::Sub,
+                        Expr::bin(Bin::Mul, x.clone(), y.clone()),
+                        Expr::un(Un::MulF(y0), x),
+                    ),
+                    Expr::un(Un::MulF(x0), y),
+                ),
+                Expr::Const(x0 * y0),
+            );
+            let (xl, xh, yl, yh) = (x0 - r, x0 + r, y0 - s, y0 + s);
+            let case = Case {
+                expr: e,
+                ranges: vec![(xl, xh), (yl, yh)],
+                points: vec![vec![xl, yl], vec![xl, yh], vec![xh, yl], vec![xh, yh]],
+            };
+            checks::check_case::<R>(&case, &stats)
+        },
+    );
+    stats.assert_informative(&format!("{}: product identity", R::NAME), 0.5);
+}
+
+#[test]
+fn product_identity_all_scales() {
+    product_identity::<arith_aa::Aa>(2000);
+}
