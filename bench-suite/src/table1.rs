@@ -9,12 +9,18 @@
 //! Like the paper's CPU renderer, primary rays only, no shadows, argument pruning on and
 //! cell culling off (the paper: "we do not use cell culling in the CPU renderer");
 //! `--culling` turns it on.
+//!
+//! With [`Options::cancel`] set (Ctrl-C in the CLI), the run stops between renders (a
+//! render in flight stops after its tiles in flight and is discarded), marks the cells it
+//! did not measure as interrupted, and still writes the tables with what it measured.
 
 use crate::chart::{self, Bar, Group};
 use crate::counter::{count_ops, Counter, OpCounts};
 use crate::paper::{self, PaperRow};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 use tracer::arith::ArithKind;
 use tracer::models::PaperModel;
@@ -48,6 +54,8 @@ pub struct Options {
     pub out: PathBuf,
     /// Print progress to stderr.
     pub verbose: bool,
+    /// Once set, stop measuring and write what was measured (see the module docs).
+    pub cancel: Option<Arc<AtomicBool>>,
 }
 
 impl Options {
@@ -62,6 +70,7 @@ impl Options {
             culling: false,
             out: out.into(),
             verbose: false,
+            cancel: None,
         }
     }
 
@@ -149,9 +158,16 @@ pub struct Cell {
     /// that no sign change along the ray confirms, while another arithmetic proved the
     /// ray root-free: a range still holding 0 at the root precision (overestimation).
     pub unconfirmed_hits: usize,
+    /// The run was interrupted before this cell had all its runs: `runs` holds those
+    /// that completed (none: not measured).
+    pub interrupted: bool,
 }
 
 impl Cell {
+    /// Whether there is a time to show: completed runs, or a stop by the budget.
+    pub fn measured(&self) -> bool {
+        self.stopped || !self.runs.is_empty()
+    }
     /// Whether more than 1% of the pixels are unconfirmed hits (see [`Cell::unconfirmed_hits`]).
     pub fn spurious(&self) -> bool {
         self.unconfirmed_hits as f64 > 0.01 * self.pixels as f64
@@ -184,12 +200,17 @@ impl Row {
     pub fn ratio_to_revaa(&self, k: ArithKind) -> Option<f64> {
         let r = self.cell(ArithKind::Revaa)?;
         let c = self.cell(k)?;
-        (!r.stopped && r.seconds > 0.0).then(|| c.seconds / r.seconds)
+        (!r.stopped && r.measured() && c.measured() && r.seconds > 0.0)
+            .then(|| c.seconds / r.seconds)
     }
     /// Our speed-up over the paper for arithmetic `k`: the paper's seconds divided by ours
     /// scaled linearly in pixel count to the paper's resolution.
     pub fn speedup(&self, k: ArithKind) -> Option<f64> {
-        self.speedup_of(k, self.cell(k)?.seconds)
+        let c = self.cell(k)?;
+        if !c.measured() {
+            return None;
+        }
+        self.speedup_of(k, c.seconds)
     }
     /// [`Row::speedup`] with our CPU seconds (all threads) instead of wall seconds: the
     /// paper's Pentium 4 ran one thread, and CPU time is not inflated by other load.
@@ -217,6 +238,8 @@ pub struct Report {
     pub kinds: Vec<ArithKind>,
     pub opts: Options,
     pub total: Duration,
+    /// Stopped by [`Options::cancel`]: some cells are not (fully) measured.
+    pub interrupted: bool,
 }
 
 impl Report {
@@ -298,9 +321,21 @@ pub const RENDER_TILE: u32 = 16;
 pub fn render_once(
     m: PaperModel,
     kind: ArithKind,
+    size: (u32, u32),
+    budget: Duration,
+    culling: bool,
+) -> Result<RenderResult, String> {
+    render_cancellable(m, kind, size, budget, culling, None)
+}
+
+/// [`render_once`] that also stops starting tiles once `cancel` is set.
+pub fn render_cancellable(
+    m: PaperModel,
+    kind: ArithKind,
     (w, h): (u32, u32),
     budget: Duration,
     culling: bool,
+    cancel: Option<Arc<AtomicBool>>,
 ) -> Result<RenderResult, String> {
     let model = m.model();
     let mut o = RenderOptions::new(&model, w, h);
@@ -313,6 +348,7 @@ pub fn render_once(
     // keep a stopped render close to its budget, at no cost without culling. Every
     // render here uses the same tile, so culling on/off comparisons stay fair.
     o.tile = RENDER_TILE;
+    o.cancel = cancel;
     render_kind(kind, &m, &o)
 }
 
@@ -322,10 +358,17 @@ pub fn run(opts: &Options) -> Result<Report, String> {
     std::fs::create_dir_all(&opts.out)
         .map_err(|e| format!("cannot create '{}': {e}", opts.out.display()))?;
     let start = Instant::now();
+    let cancelled = || {
+        opts.cancel
+            .as_ref()
+            .is_some_and(|c| c.load(Ordering::SeqCst))
+    };
+    let mut interrupted = false;
     let mut rows = Vec::new();
     for &m in &opts.models {
         let (w, h) = resolution(m, opts.full, opts.scale);
-        if opts.verbose {
+        interrupted |= cancelled();
+        if opts.verbose && !interrupted {
             eprintln!("{} at {w}x{h}", m.name());
         }
         let mut cells: Vec<Cell> = opts
@@ -344,10 +387,11 @@ pub fn run(opts: &Options) -> Result<Report, String> {
                 mask_diff: None,
                 missed_roots: 0,
                 unconfirmed_hits: 0,
+                interrupted: false,
             })
             .collect();
         let mut masks: Vec<Option<Vec<bool>>> = vec![None; opts.kinds.len()];
-        for rep in 0..opts.repeats {
+        'rounds: for rep in 0..opts.repeats {
             // Rotate the order each round so no arithmetic always runs first.
             let n = opts.kinds.len();
             for step in 0..n {
@@ -356,9 +400,27 @@ pub fn run(opts: &Options) -> Result<Report, String> {
                 if cells[k].stopped {
                     continue;
                 }
+                if interrupted {
+                    break 'rounds;
+                }
                 let cpu0 = process_cpu_seconds();
-                let res = render_once(m, kind, (w, h), opts.budget, opts.culling)?;
+                let res = render_cancellable(
+                    m,
+                    kind,
+                    (w, h),
+                    opts.budget,
+                    opts.culling,
+                    opts.cancel.clone(),
+                )?;
                 let cpu = process_cpu_seconds().zip(cpu0).map(|(b, a)| b - a);
+                if res.stats.cut && cancelled() {
+                    // Cut by the interrupt, not (only) by the budget: not a measurement.
+                    interrupted = true;
+                    if opts.verbose {
+                        eprintln!("  {:>6} interrupted", kind.label());
+                    }
+                    break 'rounds;
+                }
                 let secs = res.stats.wall.as_secs_f64();
                 let c = &mut cells[k];
                 if res.stats.cut {
@@ -395,7 +457,10 @@ pub fn run(opts: &Options) -> Result<Report, String> {
             }
         }
         for c in &mut cells {
-            if !c.stopped {
+            if interrupted && !c.stopped && c.runs.len() < opts.repeats {
+                c.interrupted = true;
+            }
+            if !c.stopped && !c.runs.is_empty() {
                 c.seconds = median(&c.runs);
             }
         }
@@ -450,6 +515,7 @@ pub fn run(opts: &Options) -> Result<Report, String> {
         kinds: opts.kinds.clone(),
         opts: opts.clone(),
         total: start.elapsed(),
+        interrupted,
     };
     let md = markdown(&report);
     write(&opts.out.join("table1.md"), md.as_bytes())?;
@@ -522,14 +588,25 @@ fn write(path: &Path, bytes: &[u8]) -> Result<(), String> {
 }
 
 fn fmt_secs(c: &Cell) -> String {
-    if c.stopped {
+    if !c.measured() {
+        "interrupted".into()
+    } else if c.interrupted {
+        // A median of fewer runs than asked.
+        format!("{} ‡", fmt_secs_value(c.seconds))
+    } else if c.stopped {
         format!("> {:.0} s", c.seconds.floor().max(1.0))
-    } else if c.seconds >= 100.0 {
-        format!("{:.0}", c.seconds)
-    } else if c.seconds >= 1.0 {
-        format!("{:.2}", c.seconds)
     } else {
-        format!("{:.3}", c.seconds)
+        fmt_secs_value(c.seconds)
+    }
+}
+
+fn fmt_secs_value(seconds: f64) -> String {
+    if seconds >= 100.0 {
+        format!("{seconds:.0}")
+    } else if seconds >= 1.0 {
+        format!("{seconds:.2}")
+    } else {
+        format!("{seconds:.3}")
     }
 }
 
@@ -648,6 +725,15 @@ pub fn markdown(r: &Report) -> String {
             let _ = writeln!(s, " source not available |");
         }
     }
+    if r.interrupted {
+        let _ = writeln!(
+            s,
+            "\n**Interrupted** (Ctrl-C) after {:.0} s: cells marked `interrupted` were not \
+             measured; ‡ marks a median of fewer runs than the {} asked.",
+            r.total.as_secs_f64(),
+            o.repeats
+        );
+    }
     if r.rows
         .iter()
         .any(|row| row.cells.iter().any(Cell::spurious))
@@ -694,6 +780,10 @@ pub fn markdown(r: &Report) -> String {
     for row in &r.rows {
         let _ = write!(s, "| {} |", row.model.name());
         for c in &row.cells {
+            if !c.measured() {
+                s.push_str(" n/a |");
+                continue;
+            }
             let stop = if c.stopped { " (stopped)" } else { "" };
             let _ = write!(s, " {:.1}{stop} |", c.evals_per_pixel());
         }
@@ -786,7 +876,11 @@ pub fn markdown(r: &Report) -> String {
 
 fn mask_summary(row: &Row) -> String {
     let Some(rk) = row.reference else {
-        return "not checked (all stopped)".into();
+        return if row.cells.iter().any(|c| c.interrupted) {
+            "not checked (interrupted)".into()
+        } else {
+            "not checked (all stopped)".into()
+        };
     };
     let differ: Vec<String> = row
         .cells
@@ -819,9 +913,17 @@ fn mask_summary(row: &Row) -> String {
     if !missed.is_empty() {
         let _ = write!(out, "; **MISSED ROOTS: {}**", missed.join(", "));
     }
-    let unchecked = row.cells.iter().filter(|c| c.mask_diff.is_none()).count();
-    if unchecked > 0 {
-        let _ = write!(out, "; {unchecked} stopped, unchecked");
+    let unchecked = |interrupted: bool| {
+        row.cells
+            .iter()
+            .filter(|c| c.mask_diff.is_none() && c.interrupted == interrupted)
+            .count()
+    };
+    if unchecked(false) > 0 {
+        let _ = write!(out, "; {} stopped, unchecked", unchecked(false));
+    }
+    if unchecked(true) > 0 {
+        let _ = write!(out, "; {} interrupted, unchecked", unchecked(true));
     }
     out
 }
@@ -832,7 +934,7 @@ pub fn csv(r: &Report) -> String {
         "model,arith,width,height,ops_all,ops_nonaffine,ops_mul,paper_ops_all,paper_ops_nonaffine,\
          paper_ops_mul,seconds_median,runs,stopped,budget_s,range_evals_per_pixel,ray_evals,cell_evals,\
          hits,ratio_to_revaa,paper_width,paper_height,paper_seconds,speedup_vs_paper,mask_reference,\
-         mask_diff_pixels,missed_roots,unconfirmed_hits,cpu_seconds_median,speedup_vs_paper_cpu\n",
+         mask_diff_pixels,missed_roots,unconfirmed_hits,cpu_seconds_median,speedup_vs_paper_cpu,interrupted\n",
     );
     for row in &r.rows {
         for c in &row.cells {
@@ -843,9 +945,11 @@ pub fn csv(r: &Report) -> String {
                 .unwrap_or(0);
             let opt = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x}"));
             let runs: Vec<String> = c.runs.iter().map(|x| format!("{x:.6}")).collect();
+            // Counts of a cell never measured (interrupted) are left empty, not 0.
+            let if_measured = |v: String| if c.measured() { v } else { String::new() };
             let _ = writeln!(
                 s,
-                "{},{},{},{},{},{},{},{},{},{},{:.6},{},{},{},{:.3},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+                "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
                 row.model.name(),
                 c.kind.name(),
                 row.width,
@@ -856,14 +960,14 @@ pub fn csv(r: &Report) -> String {
                 p.map_or(String::new(), |p| p.ops.all.to_string()),
                 p.map_or(String::new(), |p| p.ops.non_affine.to_string()),
                 p.map_or(String::new(), |p| p.ops.mul.to_string()),
-                c.seconds,
+                if c.measured() { format!("{:.6}", c.seconds) } else { String::new() },
                 runs.join(" "),
                 c.stopped,
                 r.opts.budget.as_secs_f64(),
-                c.evals_per_pixel(),
-                c.ray_evals,
-                c.cell_evals,
-                c.hits,
+                if_measured(format!("{:.3}", c.evals_per_pixel())),
+                if_measured(c.ray_evals.to_string()),
+                if_measured(c.cell_evals.to_string()),
+                if_measured(c.hits.to_string()),
                 opt(row.ratio_to_revaa(c.kind)),
                 p.map_or(String::new(), |p| p.width.to_string()),
                 p.map_or(String::new(), |p| p.height.to_string()),
@@ -875,6 +979,7 @@ pub fn csv(r: &Report) -> String {
                 c.unconfirmed_hits,
                 if c.cpu_runs.is_empty() { String::new() } else { format!("{:.2}", median(&c.cpu_runs)) },
                 opt(row.speedup_cpu(c.kind)),
+                c.interrupted,
             );
         }
     }
@@ -892,7 +997,7 @@ fn draw_chart(r: &Report, path: &Path) -> Result<(), String> {
                 .cells
                 .iter()
                 .map(|c| {
-                    Some(Bar {
+                    c.measured().then_some(Bar {
                         seconds: c.seconds,
                         stopped: c.stopped,
                     })
@@ -959,6 +1064,37 @@ mod tests {
         let d = utc_now();
         assert_eq!(d.len(), "2026-01-01 00:00 UTC".len());
         assert!(d.starts_with("20"));
+    }
+
+    #[test]
+    fn cancelled_run_marks_every_cell_and_still_writes_the_tables() {
+        let dir = std::env::temp_dir().join(format!("table1-cancel-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        let mut o = Options::new(&dir);
+        o.scale = 0.02;
+        o.models = vec![PaperModel::ALL[0]];
+        o.kinds = vec![ArithKind::Ia, ArithKind::Revaa];
+        o.repeats = 1;
+        o.cancel = Some(Arc::new(AtomicBool::new(true)));
+        let r = run(&o).unwrap();
+        assert!(r.interrupted);
+        assert_eq!(r.rows.len(), 1);
+        for c in &r.rows[0].cells {
+            assert!(c.interrupted && !c.measured(), "{:?}", c.kind);
+            assert!(r.rows[0].ratio_to_revaa(c.kind).is_none());
+        }
+        let md = std::fs::read_to_string(dir.join("table1.md")).unwrap();
+        assert!(md.contains("**Interrupted**") && md.contains("| interrupted |"));
+        let csv = std::fs::read_to_string(dir.join("table1.csv")).unwrap();
+        let mut lines = csv.lines();
+        let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+        let col = head.iter().position(|h| *h == "interrupted").unwrap();
+        let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+        assert_eq!(rows.len(), 2);
+        assert!(rows
+            .iter()
+            .all(|r| r.len() == head.len() && r[col] == "true"));
+        let _ = std::fs::remove_dir_all(&dir);
     }
 
     #[test]
