@@ -130,6 +130,8 @@ fn run(cli: Cli) -> Result<(), String> {
             o.repeats = repeats;
             o.culling = culling;
             o.verbose = true;
+            // Ctrl-C: stop, mark the unmeasured cells, write what was measured, exit 130.
+            o.cancel = Some(tracer::interrupt::cancel_flag());
             let report = table1::run(&o)?;
             println!("{}", table1::markdown(&report));
             eprintln!(
@@ -196,6 +198,7 @@ fn run(cli: Cli) -> Result<(), String> {
 
 fn main() -> ExitCode {
     match run(Cli::parse()) {
+        Ok(()) if tracer::interrupt::requested() => ExitCode::from(tracer::interrupt::EXIT_CODE),
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e}");
