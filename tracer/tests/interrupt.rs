@@ -17,8 +17,14 @@ fn tmp(name: &str) -> PathBuf {
 /// Starts `tracer args`, sends SIGINT after `after`, and waits for it to exit (killing it
 /// and failing if it has not after 30 s, so a broken handler cannot hang the suite).
 fn interrupt(args: &[&str], after: Duration) -> Output {
+    interrupt_with_env(args, &[], after)
+}
+
+/// [`interrupt`] with extra environment variables for the child.
+fn interrupt_with_env(args: &[&str], env: &[(&str, &str)], after: Duration) -> Output {
     let child = Command::new(env!("CARGO_BIN_EXE_tracer"))
         .args(args)
+        .envs(env.iter().copied())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
@@ -152,6 +158,72 @@ fn headless_preview_interrupted_writes_the_refined_image() {
         .expect("refined-so-far PNG decodes")
         .to_rgb8();
     assert_eq!(img.dimensions(), (900, 900));
+    assert!(
+        shaded_pixels(&img) > 0,
+        "nothing refined in the written image"
+    );
+}
+
+/// Starts Xvfb on a free display, or `None` where Xvfb is not installed.
+fn start_xvfb() -> Option<(String, std::process::Child)> {
+    let have = Command::new("sh")
+        .args(["-c", "command -v Xvfb"])
+        .stdout(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success());
+    if !have {
+        return None;
+    }
+    // A free display number: Xvfb exits at once when the number is taken.
+    for k in 0..20 {
+        let display = format!(":{}", 100 + (std::process::id() + 53 * k) % 900);
+        let mut child = Command::new("Xvfb")
+            .args([&display, "-screen", "0", "640x480x24", "-nolisten", "tcp"])
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("start Xvfb");
+        std::thread::sleep(Duration::from_millis(700));
+        if child.try_wait().expect("poll Xvfb").is_none() {
+            return Some((display, child));
+        }
+    }
+    panic!("no free X display for Xvfb");
+}
+
+#[test]
+fn window_preview_interrupted_writes_the_refined_image() {
+    let Some((display, mut xvfb)) = start_xvfb() else {
+        println!("skipped: Xvfb is not installed");
+        return;
+    };
+    let png = tmp("window.png");
+    let _ = std::fs::remove_file(&png);
+    let args = [
+        "preview",
+        "hypertexture-3",
+        "--width",
+        "500",
+        "--height",
+        "400",
+        "--out",
+        png.to_str().unwrap(),
+    ];
+    let out = interrupt_with_env(&args, &[("DISPLAY", &display)], Duration::from_millis(1500));
+    let _ = xvfb.kill();
+    let _ = xvfb.wait();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(
+        out.status.code(),
+        Some(130),
+        "stdout: {stdout} stderr: {err}"
+    );
+    assert!(stdout.contains("interrupted:"), "stdout: {stdout}");
+    let img = image::open(&png)
+        .expect("refined-so-far PNG decodes")
+        .to_rgb8();
+    assert_eq!(img.dimensions(), (500, 400));
     assert!(
         shaded_pixels(&img) > 0,
         "nothing refined in the written image"
