@@ -167,6 +167,11 @@ pub fn sqrt(a: f64, b: f64) -> Approx {
         (round::div_down(0.5, sh), round::div_up(0.5, sl))
     };
     let sb = b.sqrt();
+    if a > 0.0 {
+        if let Some(ap) = sqrt_fast(a, b, sb) {
+            return ap;
+        }
+    }
     let ap = if a >= 0.0 {
         let alpha = flush(1.0 / (a.sqrt() + sb));
         let p = 0.25 / (alpha * alpha);
@@ -189,6 +194,33 @@ pub fn sqrt(a: f64, b: f64) -> Approx {
     or_range(ap, range)
 }
 
+/// Fast path of [`sqrt`] for `0 < a < b < inf` (`sb = fl(sqrt(b))`), in closed form.
+///
+/// `g(x) = sqrt(x) - alpha*x` is concave, so its minimum over `[a, b]` is at an end, and
+/// for every real `x > 0` and any `alpha > 0`, `sqrt(x) - alpha*x <= 1/(4 alpha)`
+/// (AM-GM: `alpha*x + 1/(4 alpha) >= sqrt(x)`, equality at `x = 1/(4 alpha^2)`). So the
+/// upper bound is one division, whatever float `alpha` came out. The ends: `sqrt` is
+/// correctly rounded, so `sqrt(a) >= next_down(fl(sqrt(a)))`, and one rounded product
+/// or difference is within one ulp of the exact one (`next_up`/`next_down` cover it,
+/// subnormal results included). `None` when `alpha` is not a normal positive float.
+#[inline]
+fn sqrt_fast(a: f64, b: f64, sb: f64) -> Option<Approx> {
+    let sa = a.sqrt();
+    let alpha = 1.0 / (sa + sb);
+    if !(alpha >= f64::MIN_POSITIVE && alpha.is_finite()) {
+        return None;
+    }
+    let ga = (sa.next_down() - (alpha * a).next_up()).next_down();
+    let gb = (sb.next_down() - (alpha * b).next_up()).next_down();
+    let hi = (0.25 / alpha).next_up();
+    let ap = finish(alpha, ga.min(gb), hi);
+    if ap.is_entire() {
+        None
+    } else {
+        Some(ap)
+    }
+}
+
 /// `1/x` on `[a, b]`; [`Approx::ENTIRE`] when `0 ∈ [a, b]`.
 ///
 /// Chebyshev (`alpha = -1/(ab)`) while its enclosure keeps the sign of `1/x` (roughly
@@ -206,6 +238,11 @@ pub fn recip(a: f64, b: f64) -> Approx {
     if a == b || !b.is_finite() {
         let (lo, hi) = range();
         return Approx::from_range(lo, hi);
+    }
+    if a > 0.0 {
+        if let Some(ap) = recip_fast(a, b) {
+            return ap;
+        }
     }
     let f = recip_enc;
     let df = |x: f64| {
@@ -227,6 +264,31 @@ pub fn recip(a: f64, b: f64) -> Approx {
     let alpha = flush(-(1.0 / b) / b);
     let (lo, hi) = bound_piece(&f, &df, alpha, a, b, b, true);
     or_range(finish(alpha, lo, hi), range)
+}
+
+/// Fast path of [`recip`] for `0 < a < b < inf`: the same choice (Chebyshev
+/// `alpha = -1/(ab)` while its enclosure stays positive, else min-range `-1/b^2`), bounded
+/// in closed form. With `c = -alpha > 0`, `g(x) = 1/x + c x` is convex, so its maximum is
+/// at an end, and `g(x) >= 2 sqrt(c)` for every real `x > 0` (AM-GM), whatever float `c`
+/// came out. Each of `1/x`, `c x`, `sqrt(c)` and the sum is one correctly rounded
+/// operation, so `next_up`/`next_down` of it bounds the exact value. `None` when a value
+/// leaves the normal finite range.
+#[inline]
+fn recip_fast(a: f64, b: f64) -> Option<Approx> {
+    let bound = |c: f64| {
+        if !(c >= f64::MIN_POSITIVE && c.is_finite()) {
+            return None;
+        }
+        let ga = up(up(1.0 / a) + up(c * a));
+        let gb = up(up(1.0 / b) + up(c * b));
+        let ap = finish(-c, 2.0 * down(c.sqrt()), ga.max(gb));
+        (!ap.is_entire()).then_some(ap)
+    };
+    let cheb = bound((1.0 / a) / b)?;
+    if approx_min(&cheb, a, b) > 0.0 {
+        return Some(cheb);
+    }
+    bound((1.0 / b) / b)
 }
 
 /// `e^x` on `[a, b]`.
@@ -839,6 +901,54 @@ impl Trig {
     }
 }
 
+/// Largest half-width for which [`trig_taylor`] is tried (its excess over Chebyshev is
+/// `O(h)` relative; wider intervals rarely pass its acceptance test).
+const TAYLOR_MAX_H: f64 = 0.25;
+
+/// Fast path of [`sin`] / [`cos`] on a narrow `[a, b]` (midpoint `m`, half-width `h`):
+/// two libm calls (`sin m`, `cos m`) instead of about nine, no inflection test.
+///
+/// Second-order Taylor form with Lagrange remainder, valid with or without an
+/// inflection: `g(x) = f(x) - alpha*x = g(m) + g'(m)(x - m) + f''(xi)(x - m)^2/2` for some
+/// `xi ∈ [a, b]`, where `f'' = -f` and `|f(xi) - f(m)| <= |xi - m| <= r` (`|f'| <= 1`,
+/// `r >= max(b - m, m - a)`). So `g ∈ g(m) ± |g'(m)| r + [min(-fmax, 0), max(-fmin, 0)] r²/2`
+/// with `f(xi) ∈ [fmin, fmax] = f(m) ± r`, everything outward rounded. `alpha` (secant
+/// slope `f'(m) sinc(h)`, `sinc` by its Taylor series; only tightness depends on it).
+///
+/// Accepted only when its `delta` is within 1/8 of the Chebyshev `delta ≈ |f(m)| h²/4`
+/// (a float estimate used for the choice only), so tightness is kept; else `None`.
+fn trig_taylor(t: Trig, a: f64, b: f64, m: f64, h: f64) -> Option<Approx> {
+    let (s, c) = (m.sin(), m.cos());
+    let (se, ce) = (libm_enclose(s), libm_enclose(c));
+    // f(m), f'(m), and the float values used to pick alpha.
+    let (fm, dm, fv, dv) = match t {
+        Trig::Sin => (se, ce, s, c),
+        Trig::Cos => (ce, (-se.1, -se.0), c, -s),
+    };
+    let h2 = h * h;
+    let sinc = 1.0 - h2 / 6.0 * (1.0 - h2 / 20.0);
+    let alpha = flush((dv * sinc).clamp(-1.0, 1.0));
+    let r = sub_hi(b, m).max(sub_hi(m, a));
+    let gm = g_enc(fm, alpha, m);
+    let dg = (sub_lo(dm.0, alpha), sub_hi(dm.1, alpha));
+    let lin = round::mul_up(dg.0.abs().max(dg.1.abs()), r);
+    let fmin = sub_lo(fm.0, r).max(-1.0);
+    let fmax = add_hi(fm.1, r).min(1.0);
+    let r2 = round::mul_up(r, r);
+    let qlo = down(0.5 * round::mul_down((-fmax).min(0.0), r2));
+    let qhi = up(0.5 * round::mul_up((-fmin).max(0.0), r2));
+    let lo = add_lo(sub_lo(gm.0, lin), qlo);
+    let hi = add_hi(add_hi(gm.1, lin), qhi);
+    let ap = finish(alpha, lo, hi);
+    // The general path's own floor: the libm enclosures (16 ulp) and roundings of g.
+    let cheb = 0.25 * fv.abs() * h2 + 32.0 * round::U * (fv.abs() + (alpha * m).abs());
+    if !ap.is_entire() && ap.delta <= 1.125 * cheb {
+        Some(ap)
+    } else {
+        None
+    }
+}
+
 /// Shared body of [`sin`] and [`cos`].
 fn trig_approx(t: Trig, a: f64, b: f64) -> Approx {
     use core::f64::consts::{FRAC_PI_2, PI, TAU};
@@ -852,6 +962,11 @@ fn trig_approx(t: Trig, a: f64, b: f64) -> Approx {
     }
     let m = mid(a, b);
     let h = 0.5 * (b - a);
+    if h <= TAYLOR_MAX_H {
+        if let Some(ap) = trig_taylor(t, a, b, m, h) {
+            return ap;
+        }
+    }
     let sinc = if h < 1e-8 { 1.0 } else { h.sin() / h };
     // Secant slope: sin b - sin a = 2 cos(m) sin(h), cos b - cos a = -2 sin(m) sin(h).
     let alpha = match t {
@@ -1130,6 +1245,33 @@ mod tests {
             );
             assert_eq!(hi, -3.0);
         }
+    }
+
+    #[test]
+    fn fast_paths_are_taken_and_agree() {
+        // sqrt on [1, 4]: alpha = 1/3, g ∈ [2/3, 3/4] (1/(4 alpha) = 3/4 exactly).
+        let ap = sqrt_fast(1.0, 4.0, 2.0).expect("fast path");
+        assert_eq!(ap, sqrt(1.0, 4.0));
+        check(ap, 1.0 / 3.0, 17.0 / 24.0, 1.0 / 24.0);
+        // sin on [1, 1.02]: concave, secant slope; Chebyshev delta = sin(m) h²/4 to
+        // first order, which the Taylor form must meet within its acceptance margin.
+        let (a, b) = (1.0, 1.02);
+        let ap = trig_taylor(Trig::Sin, a, b, mid(a, b), 0.01).expect("taylor path");
+        assert_eq!(ap, sin(a, b));
+        let cheb = 0.25 * 1.01f64.sin() * 1e-4;
+        assert!(
+            ap.delta >= 0.99 * cheb && ap.delta <= 1.125 * cheb,
+            "{ap:?}"
+        );
+        // Near an inflection the Taylor form is rejected (its delta is not near
+        // Chebyshev's), and the general path answers.
+        assert!(trig_taylor(Trig::Sin, -0.01, 0.01, 0.0, 0.01).is_none());
+        assert!(trig_taylor(Trig::Cos, 3.0, 3.02, 3.01, 0.01).is_some());
+        // recip on [1, 2] (Chebyshev) and [1, 5] (min-range), as in the general path.
+        assert_eq!(recip_fast(1.0, 2.0), Some(recip(1.0, 2.0)));
+        let (z, d) = (0.5 * (1.5 + 2f64.sqrt()), 0.5 * (1.5 - 2f64.sqrt()));
+        check(recip_fast(1.0, 2.0).unwrap(), -0.5, z, d);
+        check(recip_fast(1.0, 5.0).unwrap(), -0.04, 0.72, 0.32);
     }
 
     #[test]

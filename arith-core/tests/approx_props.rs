@@ -364,6 +364,58 @@ proptest! {
         check_interval(&[F::Sin, F::Cos], a - w, a, &ts).map_err(TestCaseError::fail)?;
     }
 
+    /// The closed-form `sqrt` fast path (`0 < a < b`): every magnitude, relative widths
+    /// from one ulp to huge, and never looser than the float Chebyshev estimate
+    /// `(1/(4 alpha) - min g(ends))/2` by more than a few ulps of `sqrt(b)`.
+    #[test]
+    fn sqrt_fast_path_positive_intervals(
+        a in sci(-323, 307).prop_map(f64::abs),
+        rel in prop_oneof![sci(-17, 3).prop_map(f64::abs), Just(f64::EPSILON)],
+        ts in ts(),
+    ) {
+        let b = (a + a * rel).min(f64::MAX);
+        prop_assume!(a > 0.0 && b > a);
+        check_interval(&[F::Sqrt], a, b, &ts).map_err(TestCaseError::fail)?;
+        let ap = approx::sqrt(a, b);
+        prop_assert!(!ap.is_entire());
+        let (sa, sb, al) = (a.sqrt(), b.sqrt(), ap.alpha);
+        let est = 0.5 * (0.25 / al - (sa - al * a).min(sb - al * b));
+        prop_assert!(
+            ap.delta <= est + 16.0 * f64::EPSILON * sb + 1e-300,
+            "[{a:e}, {b:e}]: {ap:?} vs {est:e}"
+        );
+    }
+
+    /// The closed-form `recip` fast path (`0 < a < b`, and mirrored), both slopes.
+    #[test]
+    fn recip_fast_path_nonzero_intervals(
+        a in sci(-307, 307).prop_map(f64::abs),
+        rel in prop_oneof![sci(-17, 3).prop_map(f64::abs), Just(f64::EPSILON), 0.0..10.0f64],
+        neg in any::<bool>(),
+        ts in ts(),
+    ) {
+        let b = (a + a * rel).min(f64::MAX);
+        prop_assume!(a > 0.0 && b > a);
+        let (a, b) = if neg { (-b, -a) } else { (a, b) };
+        check_interval(&[F::Recip, F::Pow(-1)], a, b, &ts).map_err(TestCaseError::fail)?;
+    }
+
+    /// The narrow-interval Taylor path of sin and cos (half-width <= 1/4): around
+    /// extrema, inflections and elsewhere, at small to large arguments.
+    #[test]
+    fn trig_taylor_path_narrow(
+        c in prop_oneof![
+            -10.0..10.0f64,
+            -1e7..1e7f64,
+            (-6000i32..6000, -1e-3..1e-3f64).prop_map(|(k, d)| k as f64 * FRAC_PI_2 + d),
+        ],
+        w in prop_oneof![0.0..0.5f64, sci(-16, -1).prop_map(f64::abs), Just(0.5)],
+        ts in ts(),
+    ) {
+        check_interval(&[F::Sin, F::Cos], c, c + w, &ts).map_err(TestCaseError::fail)?;
+        check_interval(&[F::Sin, F::Cos], c - w, c, &ts).map_err(TestCaseError::fail)?;
+    }
+
     /// exp around under- and overflow.
     #[test]
     fn exp_over_and_underflow(a in -800.0..800.0f64, w in 0.0..100.0f64, ts in ts()) {
