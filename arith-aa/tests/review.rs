@@ -255,11 +255,11 @@ pub fn assert_sound<R: Range>(expr: &Expr, ranges: &[(f64, f64)], point: &[f64])
 
 #[test]
 fn hostile_trees_1() {
-    hostile_trees::<arith_aa::Aa>(300);
+    hostile_trees::<arith_aa::Aa>(1000);
 }
 #[test]
 fn hostile_joint_1() {
-    hostile_joint::<arith_aa::Aa>(300);
+    hostile_joint::<arith_aa::Aa>(1000);
 }
 
 /// `sqr`'s centre shift: `two_sum(p, h)` gives `c + t = p + h`, so the centre moves by

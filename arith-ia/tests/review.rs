@@ -255,7 +255,7 @@ pub fn assert_sound<R: Range>(expr: &Expr, ranges: &[(f64, f64)], point: &[f64])
 
 #[test]
 fn hostile_trees_1() {
-    hostile_trees::<arith_ia::Interval>(300);
+    hostile_trees::<arith_ia::Interval>(1000);
 }
 
 /// Any finite `f64` bit pattern (subnormals, huge, every exponent).

@@ -255,19 +255,19 @@ pub fn assert_sound<R: Range>(expr: &Expr, ranges: &[(f64, f64)], point: &[f64])
 
 #[test]
 fn hostile_trees_1() {
-    hostile_trees::<arith_raa::Raa<1>>(300);
+    hostile_trees::<arith_raa::Raa<1>>(1000);
 }
 #[test]
 fn hostile_trees_3() {
-    hostile_trees::<arith_raa::Raa<3>>(300);
+    hostile_trees::<arith_raa::Raa<3>>(1000);
 }
 #[test]
 fn hostile_joint_1() {
-    hostile_joint::<arith_raa::Raa<1>>(300);
+    hostile_joint::<arith_raa::Raa<1>>(1000);
 }
 #[test]
 fn hostile_joint_3() {
-    hostile_joint::<arith_raa::Raa<3>>(300);
+    hostile_joint::<arith_raa::Raa<3>>(1000);
 }
 
 /// The [`Range`] contract: `sqrt` of a range wholly below 0 is exactly `[0, 0]`. An
