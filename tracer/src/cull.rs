@@ -17,6 +17,15 @@
 //! diagonal is covered): unsound for a box, so we do not do that. A cell whose range
 //! excludes 0 holds no root of any of its rays and is dropped; otherwise it is split in
 //! four, down to cells too small to be worth a test, whose rays are traced one by one.
+//!
+//! Beam narrowing: a cell's depth range is first cut into slices, front to back and then
+//! back to front (a slice's box is the same frustum-segment box, for that depth range
+//! only), and the slices proved root-free are cut away; the cell is dropped when all of
+//! them are, otherwise its children inherit the narrowed depth range and every traced ray
+//! is searched only between the first and the last slice that was not proved root-free.
+//! A thick box around the whole depth range holds 0 for most cells near a surface; thin
+//! slices prove the empty space in front of (and behind) it for the whole bundle at once,
+//! which each ray would otherwise prove on its own.
 
 use crate::camera::Camera;
 use crate::shape::{Aabb, Shape};
@@ -57,7 +66,15 @@ pub struct Culler {
     margin: f64,
     /// Depth range of the whole domain (`s >= 0`).
     s_range: (f64, f64),
+    /// A pixel's angular size (a cell's width per unit depth, for beam narrowing).
+    pixel_angle: f64,
 }
+
+/// Most box evaluations of one beam narrowing pass (each direction); past it the
+/// narrowing stops where it is (sound: only proved slices are cut away).
+const NARROW_BUDGET: u32 = 48;
+/// Depth of the narrowing stack.
+const NARROW_STACK: usize = 48;
 
 impl Culler {
     pub fn new(cam: &Camera, domain: &Aabb) -> Self {
@@ -78,6 +95,7 @@ impl Culler {
             domain,
             margin,
             s_range: (s0, s1),
+            pixel_angle: cam.pixel_angle(),
         }
     }
 
@@ -130,9 +148,11 @@ impl Culler {
         out.map(|b| (b, (s0, s1)))
     }
 
-    /// Visits the cell `[i0, i1) x [j0, j1)`: calls `trace(i, j)` for every pixel whose ray
-    /// must be traced, skipping the pixels of dropped cells.
-    pub fn traverse<A: Arithmetic, S: Shape + ?Sized, F: FnMut(u32, u32)>(
+    /// Visits the cell `[i0, i1) x [j0, j1)`: calls `trace(i, j, s0, s1)` for every pixel
+    /// whose ray must be traced, skipping the pixels of dropped cells. `[s0, s1]` is the
+    /// depth range (along `forward`, margin included) outside which that ray is proved
+    /// root-free inside the domain: the ray only needs to be searched there.
+    pub fn traverse<A: Arithmetic, S: Shape + ?Sized, F: FnMut(u32, u32, f64, f64)>(
         &self,
         shape: &S,
         rect: (u32, u32, u32, u32),
@@ -142,7 +162,99 @@ impl Culler {
         self.visit::<A::Cell, S, F>(shape, rect, self.s_range, stats, trace)
     }
 
-    fn visit<R: Range, S: Shape + ?Sized, F: FnMut(u32, u32)>(
+    /// Whether the cell's bundle is proved root-free between the depths `s`: its box
+    /// misses the domain or its range excludes 0.
+    fn free<R: Range, S: Shape + ?Sized>(
+        &self,
+        shape: &S,
+        (i0, j0, i1, j1): (u32, u32, u32, u32),
+        s: (f64, f64),
+        stats: &mut CullStats,
+    ) -> bool {
+        stats.cells_tested += 1;
+        let Some((b, _)) = self.bundle_box(i0, j0, i1, j1, s) else {
+            return true;
+        };
+        let x = R::input(0, b.min.x, b.max.x);
+        let y = R::input(1, b.min.y, b.max.y);
+        let z = R::input(2, b.min.z, b.max.z);
+        !shape.eval(x, y, z).contains_zero()
+    }
+
+    /// Beam narrowing of the depth range `s` of a cell's bundle: slices of depth are
+    /// tested front to back (then back to front), halving a slice whose box range holds 0
+    /// until it is about as deep as the cell is wide (a thinner slice's box is no
+    /// tighter). Returns the depths between the first and the last slice not proved
+    /// root-free, `None` when every slice is (the cell is dropped). Sound whatever the
+    /// order or the budget: a depth is cut away only when its slice was proved root-free.
+    fn narrow<R: Range, S: Shape + ?Sized>(
+        &self,
+        shape: &S,
+        rect: (u32, u32, u32, u32),
+        s: (f64, f64),
+        stats: &mut CullStats,
+    ) -> Option<(f64, f64)> {
+        let (i0, j0, i1, j1) = rect;
+        let width = (i1 - i0).max(j1 - j0) as f64 * self.pixel_angle;
+        // A slice this thin (relative to the cell's width there) is not split further.
+        let small = |a: f64, b: f64| b - a <= width * b.max(0.0) + self.margin;
+        let mut stack = [(0.0f64, 0.0f64); NARROW_STACK];
+        // Front to back.
+        let mut sp = 0usize;
+        let mut cur = s;
+        let mut budget = NARROW_BUDGET;
+        let first = loop {
+            if budget == 0 {
+                break Some(cur.0);
+            }
+            budget -= 1;
+            if self.free::<R, S>(shape, rect, cur, stats) {
+                if sp == 0 {
+                    break None;
+                }
+                sp -= 1;
+                cur = stack[sp];
+                continue;
+            }
+            let mid = 0.5 * cur.0 + 0.5 * cur.1;
+            if small(cur.0, cur.1) || sp == NARROW_STACK || mid <= cur.0 || mid >= cur.1 {
+                break Some(cur.0);
+            }
+            stack[sp] = (mid, cur.1);
+            sp += 1;
+            cur = (cur.0, mid);
+        };
+        let first = first?;
+        // Back to front over what is left.
+        let mut sp = 0usize;
+        let mut cur = (first, s.1);
+        let mut budget = NARROW_BUDGET;
+        let last = loop {
+            if budget == 0 {
+                break cur.1;
+            }
+            budget -= 1;
+            if self.free::<R, S>(shape, rect, cur, stats) {
+                if sp == 0 {
+                    // Cannot happen unless rounding differs; keep the whole range.
+                    break s.1;
+                }
+                sp -= 1;
+                cur = stack[sp];
+                continue;
+            }
+            let mid = 0.5 * cur.0 + 0.5 * cur.1;
+            if small(cur.0, cur.1) || sp == NARROW_STACK || mid <= cur.0 || mid >= cur.1 {
+                break cur.1;
+            }
+            stack[sp] = (cur.0, mid);
+            sp += 1;
+            cur = (mid, cur.1);
+        };
+        Some((first, last.max(first)))
+    }
+
+    fn visit<R: Range, S: Shape + ?Sized, F: FnMut(u32, u32, f64, f64)>(
         &self,
         shape: &S,
         (i0, j0, i1, j1): (u32, u32, u32, u32),
@@ -155,27 +267,19 @@ impl Culler {
             return;
         }
         if w * h < MIN_CELL_PIXELS {
+            let (s0, s1) = (s_range.0 - self.margin, s_range.1 + self.margin);
             for j in j0..j1 {
                 for i in i0..i1 {
-                    trace(i, j);
+                    trace(i, j, s0, s1);
                 }
             }
             return;
         }
-        stats.cells_tested += 1;
-        let Some((b, s)) = self.bundle_box(i0, j0, i1, j1, s_range) else {
+        let Some(s) = self.narrow::<R, S>(shape, (i0, j0, i1, j1), s_range, stats) else {
             stats.cells_culled += 1;
             stats.pixels_culled += (w * h) as u64;
             return;
         };
-        let x = R::input(0, b.min.x, b.max.x);
-        let y = R::input(1, b.min.y, b.max.y);
-        let z = R::input(2, b.min.z, b.max.z);
-        if !shape.eval(x, y, z).contains_zero() {
-            stats.cells_culled += 1;
-            stats.pixels_culled += (w * h) as u64;
-            return;
-        }
         let (im, jm) = (i0 + w.div_ceil(2), j0 + h.div_ceil(2));
         for (a0, a1) in [(i0, im), (im, i1)] {
             for (c0, c1) in [(j0, jm), (jm, j1)] {
@@ -209,6 +313,82 @@ mod tests {
     use super::*;
     use crate::ray::clip;
     use crate::shape::View;
+
+    use crate::arith::ArithKind;
+    use arith_core::Real;
+
+    /// `1 - r^2` (`touch == false`) or the tangent touch `-(r^2 - 1)^2` (no sign change).
+    struct Ball {
+        touch: bool,
+    }
+    impl Shape for Ball {
+        fn eval<R: Real>(&self, x: R, y: R, z: R) -> R {
+            let r2 = x.sqr() + y.sqr() + z.sqr();
+            if self.touch {
+                -(r2 - 1.0).sqr()
+            } else {
+                r2.rsub(1.0)
+            }
+        }
+    }
+
+    /// Beam narrowing never cuts a root away: for every arithmetic, every pixel whose
+    /// analytic ray meets the unit sphere is traced, and both its roots lie in the depth
+    /// range handed to the ray (depth = `t (d . forward)`).
+    #[test]
+    fn narrowing_keeps_every_root() {
+        let domain = Aabb::cube(1.5);
+        let view = View {
+            eye: DVec3::new(0.7, 0.9, 3.4),
+            look_at: DVec3::new(0.05, -0.03, 0.0),
+            up: DVec3::Y,
+            fov_deg: 40.0,
+        };
+        let (w, h) = (64, 48);
+        let cam = Camera::new(view, w, h);
+        let c = Culler::new(&cam, &domain);
+        for kind in ArithKind::ALL {
+            for touch in [false, true] {
+                let shape = Ball { touch };
+                let mut got = vec![None; (w * h) as usize];
+                let mut stats = CullStats::default();
+                let mut trace = |i: u32, j: u32, s0: f64, s1: f64| {
+                    got[(j * w + i) as usize] = Some((s0, s1));
+                };
+                crate::with_arith!(kind, A => c.traverse::<A, _, _>(
+                    &shape,
+                    (0, 0, w, h),
+                    &mut stats,
+                    &mut trace,
+                ));
+                assert!(stats.pixels_culled > 0, "{kind}: nothing culled");
+                let mut hits = 0;
+                for j in 0..h {
+                    for i in 0..w {
+                        let (o, d) = cam.ray(i, j);
+                        let b = o.dot(d);
+                        let disc = b * b - (o.length_squared() - 1.0);
+                        if disc <= 1e-9 {
+                            continue;
+                        }
+                        hits += 1;
+                        let tag = format!("{kind} touch={touch} pixel ({i},{j})");
+                        let (s0, s1) = got[(j * w + i) as usize]
+                            .unwrap_or_else(|| panic!("{tag}: culled but hits"));
+                        let f = d.dot(cam.forward);
+                        for t in [-b - disc.sqrt(), -b + disc.sqrt()] {
+                            let s = t * f;
+                            assert!(
+                                s0 <= s && s <= s1,
+                                "{tag}: root depth {s} not in [{s0}, {s1}]"
+                            );
+                        }
+                    }
+                }
+                assert!(hits > 500, "the view should show the sphere ({hits} hits)");
+            }
+        }
+    }
 
     /// Every point of every pixel ray inside the domain lies in its cell's box.
     #[test]

@@ -316,13 +316,26 @@ fn render_tile<A: Arithmetic, S: Shape + ?Sized>(
     }
     let mut depth = vec![f32::INFINITY; n];
     let mut st = RenderStats::default();
-    let mut trace = |i: u32, j: u32| {
+    let mut trace = |i: u32, j: u32, s0: f64, s1: f64| {
         let k = (j - j0) as usize * tw + (i - i0) as usize;
         st.rays += 1;
         let (o, d) = cam.ray(i, j);
         let Some((t0, t1)) = clip(o, d, &opts.domain, 0.0) else {
             return;
         };
+        // Culling proved the ray root-free outside the depths `[s0, s1]` (margin
+        // included); depth is `t (d . forward)`. Widened by far more than the rounding.
+        let c = d.dot(cam.forward);
+        let (t0, t1) = if c > 0.5 && s0.is_finite() && s1.is_finite() {
+            let (a, b) = (s0 / c, s1 / c);
+            let m = (a.abs() + b.abs()) * 1e-12;
+            (t0.max(a - m), t1.min(b + m))
+        } else {
+            (t0, t1)
+        };
+        if t0 > t1 {
+            return;
+        }
         let mut rs = RayStats::default();
         let hit = first_root::<A, S>(shape, o, d, t0, t1, params, &mut rs);
         st.range_evals += rs.range_evals;
@@ -351,7 +364,7 @@ fn render_tile<A: Arithmetic, S: Shape + ?Sized>(
     } else {
         for j in j0..j1 {
             for i in i0..i1 {
-                trace(i, j);
+                trace(i, j, f64::NEG_INFINITY, f64::INFINITY);
             }
         }
     }
