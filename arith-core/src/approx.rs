@@ -311,18 +311,31 @@ pub fn exp(a: f64, b: f64) -> Approx {
         (lo.max(0.0), hi)
     };
     let ea = a.exp();
+    let (fa, fb) = (libm_enclose(ea), f(b));
+    let fa = (fa.0.max(0.0), fa.1);
+    // g = e^x - alpha*x is convex: its maximum is at an end, and for alpha > 0 and every
+    // real x, g(x) >= alpha - alpha*ln(alpha) (its minimum, at x = ln(alpha)), whatever
+    // float alpha came out: one libm `ln` instead of a tangent's `exp` twice.
+    let bound = |alpha: f64| {
+        let hi = g_enc(fa, alpha, a).1.max(g_enc(fb, alpha, b).1);
+        let lo = if alpha > 0.0 {
+            mul_lo(alpha, sub_lo(1.0, libm_enclose(alpha.ln()).1))
+        } else {
+            // alpha = 0 (flushed): g = e^x > 0, at least the lower end's enclosure.
+            fa.0
+        };
+        finish(alpha, lo, hi)
+    };
     let w = b - a;
     let alpha = flush(ea * (w.exp_m1() / w));
     if alpha.is_finite() && alpha > 0.0 {
-        let (lo, hi) = bound_piece(&f, &f, alpha, a, b, alpha.ln(), true);
-        let cheb = finish(alpha, lo, hi);
+        let cheb = bound(alpha);
         if !cheb.is_entire() && approx_min(&cheb, a, b) > 0.0 {
             return cheb;
         }
     }
-    let alpha = flush(libm_enclose(ea).0.max(0.0));
-    let (lo, hi) = bound_piece(&f, &f, alpha, a, b, a, true);
-    or_range(finish(alpha, lo, hi), range)
+    let alpha = flush(fa.0);
+    or_range(bound(alpha), range)
 }
 
 /// `ln x` on `[a, b]`; [`Approx::ENTIRE`] when `a <= 0` (or `b = +inf`).

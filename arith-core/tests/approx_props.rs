@@ -400,6 +400,17 @@ proptest! {
         check_interval(&[F::Recip, F::Pow(-1)], a, b, &ts).map_err(TestCaseError::fail)?;
     }
 
+    /// exp's closed-form lower bound `alpha (1 - ln alpha)`: narrow to wide intervals,
+    /// both slopes (Chebyshev, min-range), near under- and overflow.
+    #[test]
+    fn exp_closed_form_bounds(
+        a in prop_oneof![-20.0..20.0f64, -750.0..710.0f64],
+        w in prop_oneof![sci(-16, 1).prop_map(f64::abs), 0.0..30.0f64],
+        ts in ts(),
+    ) {
+        check_interval(&[F::Exp], a, a + w, &ts).map_err(TestCaseError::fail)?;
+    }
+
     /// The narrow-interval Taylor path of sin and cos (half-width <= 1/4): around
     /// extrema, inflections and elsewhere, at small to large arguments.
     #[test]
