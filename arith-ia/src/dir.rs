@@ -39,8 +39,11 @@ pub fn add_lo(a: f64, b: f64) -> f64 {
     let s = a + b;
     if s.is_finite() {
         let (_, e) = two_sum(a, b);
+        // A select, not a branch: the sign of `e` is data-dependent noise, and a
+        // mispredicted branch cost more than the whole sum (profile of the CSG model).
+        let dn = s.next_down();
         if e < 0.0 || !e.is_finite() {
-            s.next_down()
+            dn
         } else {
             s
         }
@@ -85,8 +88,10 @@ pub fn mul_lo(a: f64, b: f64) -> f64 {
         let (s, t) = if a.abs() <= b.abs() { (a, b) } else { (b, a) };
         (s * SCALE).mul_add(t, -(p * SCALE))
     };
+    // Select rather than branch, as in `add_lo`.
+    let dn = p.next_down();
     if e < 0.0 {
-        p.next_down()
+        dn
     } else {
         p
     }
