@@ -65,10 +65,23 @@ pub fn bar_chart(
     series: &[&str],
     groups: &[Group],
 ) -> Result<bool, String> {
+    bar_chart_with_axis(path, title, "seconds (log scale)", series, groups)
+}
+
+/// [`bar_chart`] with another quantity on the log-scale y axis (`Bar::seconds` then
+/// holds that quantity, e.g. evaluation counts), named by `y_desc`.
+pub fn bar_chart_with_axis(
+    path: &Path,
+    title: &str,
+    y_desc: &str,
+    series: &[&str],
+    groups: &[Group],
+) -> Result<bool, String> {
     let (w, h) = (1200u32, 600u32);
     let mut buf = vec![0u8; (w * h * 3) as usize];
     let text = font_available();
-    draw(&mut buf, (w, h), text, title, series, groups).map_err(|e| format!("chart: {e}"))?;
+    draw(&mut buf, (w, h), text, title, y_desc, series, groups)
+        .map_err(|e| format!("chart: {e}"))?;
     let img = image::RgbImage::from_raw(w, h, buf).ok_or("chart: buffer size")?;
     img.save(path)
         .map_err(|e| format!("writing {}: {e}", path.display()))?;
@@ -80,6 +93,7 @@ fn draw(
     size: (u32, u32),
     text: bool,
     title: &str,
+    y_desc: &str,
     series: &[&str],
     groups: &[Group],
 ) -> Result<(), Box<dyn std::error::Error>> {
@@ -126,7 +140,7 @@ fn draw(
     if text {
         mesh.x_labels((n * slots + 1) as usize)
             .x_label_formatter(&fmt)
-            .y_desc("seconds (log scale)")
+            .y_desc(y_desc)
             .y_label_formatter(&|y| format!("{y:.0e}"));
     } else {
         mesh.x_labels(0).y_labels(0);

@@ -5,11 +5,13 @@
 //! - [`chart`]: the log-scale bar chart.
 //! - [`table1`]: the paper's Table 1 regenerated.
 //! - [`tightness`]: computed range width over sampled true width.
+//! - [`progressive`]: the progressive-refinement paper's Table 1 and Fig. 9.
 //! - [`scaling`]: cost as the resolution doubles, with and without culling.
 //! - [`rng`]: a small reproducible generator for sampling.
 pub mod chart;
 pub mod counter;
 pub mod paper;
+pub mod progressive;
 pub mod rng;
 pub mod scaling;
 pub mod table1;

@@ -5,9 +5,10 @@
 //!                    [--budget SECONDS] [--repeats N] [--culling] [--out DIR]
 //! bench-suite tightness [--models a,b] [--arith ...] [--samples N] [--out DIR]
 //! bench-suite scaling [--models a,b] [--arith revaa] [--base-scale F] [--steps N] [--out DIR]
+//! bench-suite progressive [--size N] [--models a,b] [--layers L] [--out DIR]
 //! ```
 
-use bench_suite::{scaling, table1, tightness};
+use bench_suite::{progressive, scaling, table1, tightness};
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -82,6 +83,21 @@ enum Cmd {
         /// Per-render time budget in seconds.
         #[arg(long, default_value_t = 60.0)]
         budget: f64,
+        #[arg(long, default_value = "bench-out")]
+        out: PathBuf,
+    },
+    /// The progressive-refinement paper's Table 1 (previewer vs Lipschitz ray casters:
+    /// time and point evaluations) and Fig. 9 (hypertexture with L = 1..5) as a bar chart.
+    Progressive {
+        /// Image width and height in pixels.
+        #[arg(long, default_value_t = progressive::DEFAULT_SIZE)]
+        size: u32,
+        /// Comma-separated model names (default: mitchell-gm,blobby,hypertexture-1).
+        #[arg(long)]
+        models: Option<String>,
+        /// Fig. 9 runs the hypertexture with L = 1..=LAYERS (0: skip Fig. 9).
+        #[arg(long, default_value_t = progressive::FIG9_LAYERS)]
+        layers: u32,
         #[arg(long, default_value = "bench-out")]
         out: PathBuf,
     },
@@ -192,6 +208,37 @@ fn run(cli: Cli) -> Result<(), String> {
             let md = scaling::markdown(&o, &pts);
             println!("{md}");
             write_out(&out, "scaling.md", &md)
+        }
+        Cmd::Progressive {
+            size,
+            models,
+            layers,
+            out,
+        } => {
+            let mut o = progressive::Options::new(out);
+            o.size = size;
+            if let Some(m) = models {
+                o.models = progressive::parse_models(&m)?;
+            }
+            o.layers = layers;
+            o.verbose = true;
+            let report = progressive::run(&o)?;
+            println!("{}", progressive::markdown(&report));
+            eprintln!(
+                "wrote {}/progressive.md, progressive.csv{}",
+                o.out.display(),
+                if report.fig9.is_empty() {
+                    ""
+                } else {
+                    ", fig9.csv, fig9.png, fig9-evals.png"
+                }
+            );
+            for line in progressive::goal_lines(&report) {
+                if line.starts_with("!!!") {
+                    eprintln!("{line}");
+                }
+            }
+            Ok(())
         }
     }
 }
