@@ -52,6 +52,7 @@
 //! assert!(lo <= v && v <= hi && ilo <= v && v <= ihi);
 //! ```
 
+pub mod affine_round;
 pub mod approx;
 pub mod rfunc;
 pub mod round;

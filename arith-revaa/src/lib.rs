@@ -18,7 +18,7 @@
 
 #![forbid(unsafe_code)]
 
-mod fp;
+use arith_core::affine_round as fp;
 
 use arith_core::approx::{self, Approx};
 use arith_core::round::U;

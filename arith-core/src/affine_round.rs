@@ -1,4 +1,6 @@
-//! Floating-point bookkeeping shared by every operation of the form.
+//! Floating-point bookkeeping shared by the reduced (AF1) and revised affine forms
+//! (centre, input-symbol coefficients, one nonnegative error term): every operation of
+//! both crates bounds its rounding error with these helpers.
 //!
 //! We never change the rounding mode. Each operation computes its centre and
 //! coefficients in round-to-nearest and bounds the rounding error it made; the error
@@ -15,7 +17,7 @@
 //! - A sum of `m` nonnegative terms computed left to right is `>= (1-U)^(m-1)` times the
 //!   exact sum of the computed terms (no underflow loss in additions).
 
-use arith_core::round::{two_sum, ETA, U};
+use crate::round::{two_sum, ETA, U};
 
 /// `1 + 2(k+2)U`, exactly representable; `c_k (1-U)^(k+2) >= 1`.
 #[inline(always)]
@@ -94,11 +96,13 @@ pub fn mid_rad(lo: f64, hi: f64) -> (f64, f64, f64) {
 
 /// `k` for the cheap `up_abs` calls of the linear operations with products
 /// (scaling, unary approximations): generous, costs nothing at run time.
+#[inline]
 pub const fn k_lin(n: usize) -> usize {
     2 * n + 8
 }
 
 /// `k` for the multiplication and the square: covers the `O(n^2)` terms.
+#[inline]
 pub const fn k_mul(n: usize) -> usize {
     16 + 8 * n + 2 * n * n
 }
@@ -108,6 +112,7 @@ pub const fn k_mul(n: usize) -> usize {
 /// adds at most `2(k+2)U` of a radius `<= 3(|x0|+W)²`, `U` times `<= 6(|x0|+W)²` of
 /// rounded values, and the outward rounding of the bounds a few ulps more. We take
 /// twice that.
+#[inline]
 pub const fn sqr_margin(n: usize) -> f64 {
     (16 * (k_mul(n) + 2) + 128) as f64 * U
 }
