@@ -6,8 +6,8 @@
 
 use crate::arith::ArithKind;
 use crate::camera::Camera;
-use crate::cull::{CullStats, Culler};
-use crate::ray::{clip, first_root, Precision, RayParams, RayStats};
+use crate::cull::{CullStats, Culler, Depths};
+use crate::ray::{clip, first_root, first_root_split, Precision, RayParams, RayStats};
 use crate::shade::{self, Light, Material};
 use crate::shape::{Aabb, Model, Shape, View};
 use arith_core::Arithmetic;
@@ -316,7 +316,7 @@ fn render_tile<A: Arithmetic, S: Shape + ?Sized>(
     }
     let mut depth = vec![f32::INFINITY; n];
     let mut st = RenderStats::default();
-    let mut trace = |i: u32, j: u32, s0: f64, s1: f64| {
+    let mut trace = |i: u32, j: u32, depths: Depths| {
         let k = (j - j0) as usize * tw + (i - i0) as usize;
         st.rays += 1;
         let (o, d) = cam.ray(i, j);
@@ -326,18 +326,19 @@ fn render_tile<A: Arithmetic, S: Shape + ?Sized>(
         // Culling proved the ray root-free outside the depths `[s0, s1]` (margin
         // included); depth is `t (d . forward)`. Widened by far more than the rounding.
         let c = d.dot(cam.forward);
-        let (t0, t1) = if c > 0.5 && s0.is_finite() && s1.is_finite() {
+        let Depths { s0, split, s1 } = depths;
+        let (t0, t1, split) = if c > 0.5 && s0.is_finite() && s1.is_finite() {
             let (a, b) = (s0 / c, s1 / c);
             let m = (a.abs() + b.abs()) * 1e-12;
-            (t0.max(a - m), t1.min(b + m))
+            (t0.max(a - m), t1.min(b + m), split / c)
         } else {
-            (t0, t1)
+            (t0, t1, t1)
         };
         if t0 > t1 {
             return;
         }
         let mut rs = RayStats::default();
-        let hit = first_root::<A, S>(shape, o, d, t0, t1, params, &mut rs);
+        let hit = first_root_split::<A::Ray, S>(shape, o, d, t0, split, t1, params, &mut rs);
         st.range_evals += rs.range_evals;
         st.pruned_empty += rs.pruned_empty;
         st.point_evals += rs.point_evals;
@@ -364,7 +365,8 @@ fn render_tile<A: Arithmetic, S: Shape + ?Sized>(
     } else {
         for j in j0..j1 {
             for i in i0..i1 {
-                trace(i, j, f64::NEG_INFINITY, f64::INFINITY);
+                let (s0, s1) = (f64::NEG_INFINITY, f64::INFINITY);
+                trace(i, j, Depths { s0, split: s1, s1 });
             }
         }
     }
