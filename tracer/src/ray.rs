@@ -189,7 +189,7 @@ fn point_on_ray<S: Shape + ?Sized>(shape: &S, o: DVec3, d: DVec3, t: f64) -> f64
 
 /// Each piece of the march after `[t0, split]` is this much longer than the one before
 /// (measured: 1.5 beat 1, 2 and 3 on Mitchell, the decocube, CSG and the noisy sphere).
-const MARCH_GROWTH: f64 = 1.5;
+pub const MARCH_GROWTH: f64 = 1.5;
 
 /// Depth of the explicit subdivision stack. Halving stops at the precision (whose floor
 /// is positive) or at floating-point resolution, long before this; should it ever fill,
