@@ -654,6 +654,10 @@ impl Real for Aa {
     fn sqrt(&self) -> Aa {
         self.clone().nonaffine(approx::sqrt)
     }
+    fn hypot(&self, other: &Aa) -> Aa {
+        let floor = approx::sum_sq_floor(self.bounds(), other.bounds());
+        (self.sqr() + other.sqr()).nonaffine(|a, b| approx::sqrt_at_least(a, b, floor))
+    }
     fn recip(&self) -> Aa {
         self.clone().nonaffine(approx::recip)
     }

@@ -194,6 +194,39 @@ pub fn sqrt(a: f64, b: f64) -> Approx {
     or_range(ap, range)
 }
 
+/// A lower bound of `x^2 + y^2` for `x ∈ [x.0, x.1]`, `y ∈ [y.0, y.1]` (mignitudes
+/// squared, rounded down; `0` when a range is NaN or holds 0).
+pub fn sum_sq_floor(x: (f64, f64), y: (f64, f64)) -> f64 {
+    let mig = |(lo, hi): (f64, f64)| {
+        if lo > 0.0 {
+            lo
+        } else if hi < 0.0 {
+            -hi
+        } else {
+            0.0
+        }
+    };
+    let (a, b) = (mig(x), mig(y));
+    let s = round::add_down(
+        round::mul_down(a, a).max(0.0),
+        round::mul_down(b, b).max(0.0),
+    );
+    if s.is_nan() {
+        0.0
+    } else {
+        s.max(0.0)
+    }
+}
+
+/// [`sqrt`] on `[a, b]` for an argument known to be `>= floor` as well: the
+/// approximation on `[max(a, floor), b]` (sound: the argument lies in both).
+pub fn sqrt_at_least(a: f64, b: f64, floor: f64) -> Approx {
+    if floor.is_nan() || floor <= a || floor > b {
+        return sqrt(a, b);
+    }
+    sqrt(floor, b)
+}
+
 /// Fast path of [`sqrt`] for `0 < a < b < inf` (`sb = fl(sqrt(b))`), in closed form.
 ///
 /// `g(x) = sqrt(x) - alpha*x` is concave, so its minimum over `[a, b]` is at an end, and
@@ -931,7 +964,7 @@ const TAYLOR_MAX_H: f64 = 0.25;
 /// Accepted only when its `delta` is within 1/8 of the Chebyshev `delta ≈ |f(m)| h²/4`
 /// (a float estimate used for the choice only), so tightness is kept; else `None`.
 fn trig_taylor(t: Trig, a: f64, b: f64, m: f64, h: f64) -> Option<Approx> {
-    let (s, c) = (m.sin(), m.cos());
+    let (s, c) = m.sin_cos();
     let (se, ce) = (libm_enclose(s), libm_enclose(c));
     // f(m), f'(m), and the float values used to pick alpha.
     let (fm, dm, fv, dv) = match t {
@@ -1034,6 +1067,21 @@ mod tests {
     //! evaluated independently); `delta` must cover the hand value and be at most a few
     //! rounding errors wider.
     use super::*;
+
+    #[test]
+    fn sum_sq_floor_is_the_mignitudes_squared() {
+        // Rounded down (by an ulp or two even when exact).
+        let near = |got: f64, want: f64| got <= want && got >= want * (1.0 - 1e-15);
+        assert!(near(sum_sq_floor((1.0, 2.0), (-3.0, -2.0)), 5.0));
+        assert!(near(sum_sq_floor((-1.0, 2.0), (-3.0, -2.0)), 4.0));
+        assert_eq!(sum_sq_floor((-1.0, 2.0), (0.0, 0.0)), 0.0);
+        assert_eq!(sum_sq_floor((f64::NAN, 2.0), (f64::NAN, 1.0)), 0.0);
+        let f = sum_sq_floor((0.1, 1.0), (0.3, 1.0));
+        assert!(f <= 0.1 * 0.1 + 0.3 * 0.3 && f > 0.0999);
+        // A floor above the range's own lower end replaces it; one below is ignored.
+        assert_eq!(sqrt_at_least(-1.0, 4.0, 1.0), sqrt(1.0, 4.0));
+        assert_eq!(sqrt_at_least(2.0, 4.0, 1.0), sqrt(2.0, 4.0));
+    }
 
     fn check(ap: Approx, alpha: f64, zeta: f64, delta: f64) {
         let scale = 1.0 + zeta.abs() + delta;

@@ -40,6 +40,13 @@ pub trait Real:
     /// reading: the part of a range below 0 is clipped, and a range wholly below 0 gives
     /// exactly `0`.
     fn sqrt(&self) -> Self;
+    /// `sqrt(x^2 + y^2)`, the root of the R-functions. Affine arithmetics override it:
+    /// the affine range of `x^2 + y^2` often dips below 0 (and then `sqrt` takes its
+    /// loose approximation across 0), while the argument is known to be at least
+    /// `mig(x)^2 + mig(y)^2 >= 0` ([`crate::approx::sum_sq_floor`]).
+    fn hypot(&self, other: &Self) -> Self {
+        (self.sqr() + other.sqr()).sqrt()
+    }
     /// `1 / x`.
     fn recip(&self) -> Self;
     /// `e^x`.

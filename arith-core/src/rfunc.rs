@@ -6,19 +6,19 @@ use crate::Real;
 
 /// Intersection `f1 & f2 = f1 + f2 - sqrt(f1^2 + f2^2)`.
 pub fn intersect<R: Real>(f1: R, f2: R) -> R {
-    let r = (f1.sqr() + f2.sqr()).sqrt();
+    let r = f1.hypot(&f2);
     f1 + f2 - r
 }
 
 /// Union `f1 | f2 = f1 + f2 + sqrt(f1^2 + f2^2)`.
 pub fn union<R: Real>(f1: R, f2: R) -> R {
-    let r = (f1.sqr() + f2.sqr()).sqrt();
+    let r = f1.hypot(&f2);
     f1 + f2 + r
 }
 
 /// Subtraction `f1 \ f2 = f1 & (-f2) = f1 - f2 - sqrt(f1^2 + f2^2)`.
 pub fn subtract<R: Real>(f1: R, f2: R) -> R {
-    let r = (f1.sqr() + f2.sqr()).sqrt();
+    let r = f1.hypot(&f2);
     f1 - f2 - r
 }
 

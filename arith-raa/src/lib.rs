@@ -384,6 +384,16 @@ impl<const N: usize> Real for Raa<N> {
         self.unary(approx::sqrt, Self::UNBOUNDED)
     }
 
+    fn hypot(&self, other: &Self) -> Self {
+        let s = self.sqr() + other.sqr();
+        let (lo, hi) = s.bounds();
+        if !(lo.is_finite() && hi.is_finite()) {
+            return Self::UNBOUNDED;
+        }
+        let floor = approx::sum_sq_floor(self.bounds(), other.bounds());
+        s.apply(approx::sqrt_at_least(lo, hi, floor))
+    }
+
     fn recip(&self) -> Self {
         self.unary(approx::recip, Self::UNBOUNDED)
     }

@@ -60,6 +60,8 @@ pub enum Bin {
     Min,
     /// `x.max(&y)`
     Max,
+    /// `x.hypot(&y)` = `sqrt(x^2 + y^2)`
+    Hypot,
 }
 
 impl Un {
@@ -119,6 +121,7 @@ impl Bin {
             Bin::Div => x / y,
             Bin::Min => x.min(&y),
             Bin::Max => x.max(&y),
+            Bin::Hypot => x.hypot(&y),
         }
     }
 
@@ -131,6 +134,7 @@ impl Bin {
             Bin::Div => x.div(y),
             Bin::Min => Some(x.min(y)),
             Bin::Max => Some(x.max(y)),
+            Bin::Hypot => x.sqr()?.add(&y.sqr()?)?.sqrt(),
         }
     }
 }
@@ -232,6 +236,7 @@ impl fmt::Display for Expr {
                 Bin::Div => write!(f, "({a} / {b})"),
                 Bin::Min => write!(f, "min({a}, {b})"),
                 Bin::Max => write!(f, "max({a}, {b})"),
+                Bin::Hypot => write!(f, "hypot({a}, {b})"),
             },
         }
     }
@@ -271,6 +276,7 @@ pub fn bin_strategy() -> BoxedStrategy<Bin> {
         Just(Bin::Div),
         Just(Bin::Min),
         Just(Bin::Max),
+        Just(Bin::Hypot),
     ]
     .boxed()
 }

@@ -83,7 +83,7 @@ pub use proptest;
 /// Expands to `mod suite_name { ... }` (with `use super::*;`, so a type imported at the
 /// call site resolves) holding these `#[test]`s:
 /// - per operation, soundness at random points of random ranges: `op_add`, `op_sub`,
-///   `op_mul`, `op_div`, `op_min`, `op_max`, `op_neg`, `op_abs`, `op_sqr`, `op_powi`,
+///   `op_mul`, `op_div`, `op_min`, `op_max`, `op_hypot`, `op_neg`, `op_abs`, `op_sqr`, `op_powi`,
 ///   `op_sqrt`, `op_recip`, `op_exp`, `op_ln`, `op_sin`, `op_cos`, `op_f64_rhs`;
 /// - `constants_and_inputs`: `constant`, `from_interval`, `input` enclose their values;
 /// - `random_trees`: soundness of random expression trees (depth <= 6, 3 inputs);
@@ -123,6 +123,10 @@ macro_rules! range_test_suite {
             #[test]
             fn op_max() {
                 __c::check_binary_op::<$t>(__Bin::Max, __c::CASES_OP)
+            }
+            #[test]
+            fn op_hypot() {
+                __c::check_binary_op::<$t>(__Bin::Hypot, __c::CASES_OP)
             }
             #[test]
             fn op_neg() {
