@@ -950,7 +950,7 @@ impl Trig {
 
 /// Largest half-width for which [`trig_taylor`] is tried (its excess over Chebyshev is
 /// `O(h)` relative; wider intervals rarely pass its acceptance test).
-const TAYLOR_MAX_H: f64 = 0.25;
+const TAYLOR_MAX_H: f64 = 0.5;
 
 /// Fast path of [`sin`] / [`cos`] on a narrow `[a, b]` (midpoint `m`, half-width `h`):
 /// one libm call (`sin_cos m`) instead of about nine, no inflection test.
@@ -965,7 +965,8 @@ const TAYLOR_MAX_H: f64 = 0.25;
 /// on narrow ranges against directed rounding of every step.
 ///
 /// Accepted only when its `delta` is within 1/8 of the Chebyshev `delta ≈ |f(m)| h²/4`
-/// (a float estimate used for the choice only), so tightness is kept; else `None`.
+/// (a float estimate used for the choice only) plus `h³/2`, so tightness is kept; else
+/// `None`.
 fn trig_taylor(t: Trig, a: f64, b: f64, m: f64, h: f64) -> Option<Approx> {
     use round::{ETA, LIBM_REL, U};
     // Plain round-to-nearest throughout, then one bulk allowance for every rounding
@@ -994,14 +995,20 @@ fn trig_taylor(t: Trig, a: f64, b: f64, m: f64, h: f64) -> Option<Approx> {
     let r2h = 0.5 * (r * r);
     let qlo = (-fmax).min(0.0) * r2h;
     let qhi = (-fmin).max(0.0) * r2h;
-    let lo = gm - lin + qlo;
-    let hi = gm + lin + qhi;
+    // Third order as well (tighter near an inflection, where f(m) ≈ 0):
+    // g = g(m) + g'(m) u - f(m) u^2/2 - f'(xi) u^3/6, |f'(xi)| <= min(|f'(m)| + r, 1).
+    let q3lo = (-(fv + es)).min(0.0) * r2h;
+    let q3hi = (-(fv - es)).max(0.0) * r2h;
+    let c3 = r * r2h * (1.0 / 3.0) * (dv.abs() + ed + r).min(1.0);
+    // Both enclose g on [a, b]: keep their intersection.
+    let lo = (gm - lin + qlo).max(gm - lin + q3lo - c3);
+    let hi = (gm + lin + qhi).min(gm + lin + q3hi + c3);
     let zeta = 0.5 * lo + 0.5 * hi;
     let half = 0.5 * (hi - lo);
     // Rounding allowance: f(m) (es), alpha*m and the difference gm (U each, plus ETA for
-    // a subnormal product), lin and the q terms (a few U relative each: products of
-    // rounded upper bounds), the two three-term sums lo, hi, then zeta and half.
-    let mags = gm.abs() + am.abs() + lin + qhi - qlo;
+    // a subnormal product), lin and the q and c3 terms (a few U relative each: products
+    // of rounded upper bounds), the three- and four-term sums lo, hi, then zeta, half.
+    let mags = gm.abs() + am.abs() + lin + qhi - qlo + q3hi - q3lo + c3;
     let slack = es + 16.0 * U * mags + 8.0 * ETA;
     let delta = affine_round::up_abs(half + slack + U * (zeta.abs() + half), 8);
     let ap = if alpha.is_finite() && zeta.is_finite() && delta.is_finite() {
@@ -1010,9 +1017,13 @@ fn trig_taylor(t: Trig, a: f64, b: f64, m: f64, h: f64) -> Option<Approx> {
         return None;
     };
     // Accepted only when not much wider than Chebyshev (`|f(m)| h^2/4`, an estimate used
-    // for the choice only) plus the floor of the general path's own roundings.
+    // for the choice only) plus the floor of the general path's own roundings, plus
+    // `h^3/2`: near an inflection (`f(m) ≈ 0`) the general path's mean-value form is
+    // itself `O(h^3)` wide (about `h^3/4`; this form's third order gives about `h^3/3`),
+    // at several times the cost (measured: the general path was most of the time of the
+    // sine models; taking this one on them costs under 1% more range evaluations).
     let cheb = 0.25 * fv.abs() * h2 + 32.0 * U * (fv.abs() + am.abs());
-    if ap.delta <= 1.125 * cheb {
+    if ap.delta <= 1.125 * cheb + 0.5 * h2 * h {
         Some(ap)
     } else {
         None
@@ -1255,13 +1266,16 @@ mod tests {
             -0.4063249432647849,
             0.22767489103411206,
         );
-        // Inflection at 0: secant sin(0.1)/0.1 with the mean-value bound
-        // 0.1 * (alpha - cos(0.1)); g(0) = 0 so zeta = 0.
+        // Inflection at 0, wide: secant sin(0.6)/0.6 with the mean-value bound
+        // 0.6 * (alpha - cos(0.6)); g(0) = 0 so zeta = 0.
+        check(sin(-0.6, 0.6), 0.9410707889917257, 0.0, 0.06944110444922842);
+        // Inflection at 0, narrow (the Taylor path): alpha = 1 - h^2/6 (1 - h^2/20) with
+        // h = 0.1, then |f'(0) - alpha| h + h^3/6 (third order; f(0) = 0).
         check(
             sin(-0.1, 0.1),
-            0.9983341664682815,
+            0.9983341666666666,
             0.0,
-            3.330001190255757e-4,
+            3.3325000000000336e-4,
         );
         // Wide with inflections: the mean-value bound is worse than the range [-1, 1].
         check(sin(-3.0, 3.0), 0.0, 0.0, 1.0);
@@ -1348,9 +1362,11 @@ mod tests {
             ap.delta >= 0.99 * cheb && ap.delta <= 1.125 * cheb,
             "{ap:?}"
         );
-        // Near an inflection the Taylor form is rejected (its delta is not near
-        // Chebyshev's), and the general path answers.
-        assert!(trig_taylor(Trig::Sin, -0.01, 0.01, 0.0, 0.01).is_none());
+        // Near an inflection the third-order form answers, as tight as the general
+        // path's mean-value form (secant 1 - h^2/6; both give 2 h^3/6 here).
+        let ap = trig_taylor(Trig::Sin, -0.01, 0.01, 0.0, 0.01).expect("taylor path");
+        assert_eq!(ap, sin(-0.01, 0.01));
+        assert!(ap.delta >= 3.3e-7 && ap.delta <= 3.34e-7, "{ap:?}");
         assert!(trig_taylor(Trig::Cos, 3.0, 3.02, 3.01, 0.01).is_some());
         // recip on [1, 2] (Chebyshev) and [1, 5] (min-range), as in the general path.
         assert_eq!(recip_fast(1.0, 2.0), Some(recip(1.0, 2.0)));
