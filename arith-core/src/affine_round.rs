@@ -94,6 +94,24 @@ pub fn mid_rad(lo: f64, hi: f64) -> (f64, f64, f64) {
     (m, r, err)
 }
 
+/// A lower bound of `min |x|` over the form `x0 + Σ xs[i] εi ± e` (`0` when the range may
+/// hold 0), without directed rounding: `|x0| - rad` with `rad` rounded up, the difference
+/// (within `U` relative when positive) scaled down by `1 - 2U`.
+#[inline]
+pub fn mig_lower(x0: f64, xs: &[f64], e: f64) -> f64 {
+    let mut s = e;
+    for c in xs {
+        s += c.abs();
+    }
+    let rad = up_rel(s, xs.len() + 1);
+    let m = x0.abs() - rad;
+    if m > 0.0 {
+        m * (1.0 - 2.0 * U)
+    } else {
+        0.0
+    }
+}
+
 /// `k` for the cheap `up_abs` calls of the linear operations with products
 /// (scaling, unary approximations): generous, costs nothing at run time.
 #[inline]

@@ -49,7 +49,20 @@ impl Approx {
     /// The constant approximation enclosing `[lo, hi]` (`alpha = 0`). Exact (`delta = 0`)
     /// for a point; ENTIRE for an unbounded, NaN or reversed range.
     pub fn from_range(lo: f64, hi: f64) -> Approx {
-        finish(0.0, lo, hi)
+        if !(lo.is_finite() && hi.is_finite() && lo <= hi) {
+            return Approx::ENTIRE;
+        }
+        // Directed differences: a range with an exact midpoint stays exact.
+        let zeta = 0.5 * lo + 0.5 * hi;
+        let delta = sub_hi(hi, zeta).max(sub_hi(zeta, lo)).max(0.0);
+        if !(zeta.is_finite() && delta.is_finite()) {
+            return Approx::ENTIRE;
+        }
+        Approx {
+            alpha: 0.0,
+            zeta,
+            delta,
+        }
     }
 }
 
@@ -827,7 +840,10 @@ fn finish(alpha: f64, lo: f64, hi: f64) -> Approx {
         return Approx::ENTIRE;
     }
     let zeta = 0.5 * lo + 0.5 * hi;
-    let delta = sub_hi(hi, zeta).max(sub_hi(zeta, lo)).max(0.0);
+    // Each difference is within U (relative) of the exact one, and exact when subnormal;
+    // `(1-U)^2 (1+4U) > 1`, so scaling the larger by `1 + 4U` bounds both from above
+    // (cheaper than two directed subtractions; 0 stays 0).
+    let delta = (hi - zeta).max(zeta - lo).max(0.0) * (1.0 + 4.0 * round::U);
     if !(zeta.is_finite() && delta.is_finite()) {
         return Approx::ENTIRE;
     }

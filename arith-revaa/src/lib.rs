@@ -412,7 +412,10 @@ impl<const N: usize> Real for RevAa<N> {
         if !(lo.is_finite() && hi.is_finite()) {
             return Self::UNBOUNDED;
         }
-        let floor = approx::sum_sq_floor(self.bounds(), other.bounds());
+        // Cheaper than two more `bounds()` (a third of a CSG evaluation's time).
+        let mx = fp::mig_lower(self.x0, &self.xs, self.e);
+        let my = fp::mig_lower(other.x0, &other.xs, other.e);
+        let floor = approx::sum_sq_floor((mx, mx), (my, my));
         s.apply(approx::sqrt_at_least(lo, hi, floor))
     }
 
