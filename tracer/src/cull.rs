@@ -213,8 +213,9 @@ impl Culler {
     ///
     /// Like a ray, the narrowing marches: `[s.0, split]` first (the parent's first
     /// non-empty slice, where this cell's surface most likely starts too), then pieces
-    /// growing by [`crate::ray::MARCH_GROWTH`]; halving the whole rest from the front
-    /// costs a box evaluation per halving before anything is proved.
+    /// [`crate::ray::MARCH_GROWTH`] times as deep as the slice last proved empty; halving
+    /// the whole rest from the front costs a box evaluation per halving before anything
+    /// is proved.
     fn narrow<R: Range, S: Shape + ?Sized>(
         &self,
         shape: &S,
@@ -231,11 +232,10 @@ impl Culler {
         let mut stack = [(0.0f64, 0.0f64); NARROW_STACK];
         let mut sp = 0usize;
         let mut cur = s;
-        let (mut rest, mut step) = (s.1, 0.0);
+        let mut rest = s.1;
         if s.0 < split && split < s.1 {
             cur = (s.0, split);
             rest = split;
-            step = crate::ray::MARCH_GROWTH * (split - s.0);
         }
         let mut budget = NARROW_BUDGET;
         loop {
@@ -249,6 +249,8 @@ impl Culler {
                     sp -= 1;
                     cur = stack[sp];
                 } else if rest < s.1 {
+                    // As for rays: a little longer than the slice just proved empty.
+                    let step = (cur.1 - cur.0) * crate::ray::MARCH_GROWTH;
                     let end = if rest + 1.5 * step >= s.1 {
                         s.1
                     } else {
@@ -256,7 +258,6 @@ impl Culler {
                     };
                     cur = (rest, end);
                     rest = end;
-                    step *= crate::ray::MARCH_GROWTH;
                 } else {
                     return None;
                 }
