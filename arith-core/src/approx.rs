@@ -253,13 +253,17 @@ pub fn sqrt_at_least(a: f64, b: f64, floor: f64) -> Approx {
 #[inline]
 fn sqrt_fast(a: f64, b: f64, sb: f64) -> Option<Approx> {
     let sa = a.sqrt();
-    let alpha = 1.0 / (sa + sb);
+    let sum = sa + sb;
+    let alpha = 1.0 / sum;
     if !(alpha >= f64::MIN_POSITIVE && alpha.is_finite()) {
         return None;
     }
     let ga = (sa.next_down() - (alpha * a).next_up()).next_down();
     let gb = (sb.next_down() - (alpha * b).next_up()).next_down();
-    let hi = (0.25 / alpha).next_up();
+    // 1/(4 alpha) without a second division: alpha = fl(1/sum) >= (1-U)/sum, so
+    // 1/alpha <= sum/(1-U); sum/4 is exact (alpha normal: sum is not subnormal), and
+    // fl(sum/4 * (1+8U)) >= sum/4 (1+8U)(1-U) >= sum/(4(1-U)).
+    let hi = 0.25 * sum * (1.0 + 8.0 * round::U);
     let ap = finish(alpha, ga.min(gb), hi);
     if ap.is_entire() {
         None
