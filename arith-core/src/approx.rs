@@ -200,6 +200,9 @@ pub fn sqrt(a: f64, b: f64) -> Approx {
         } else {
             sb / (b - a)
         });
+        if let Some(ap) = sqrt_fast_across(a, b, sb, alpha) {
+            return ap;
+        }
         // [a, 0]: g = -alpha*x is linear; [0, b]: concave.
         let ga = g_enc((0.0, 0.0), alpha, a);
         let (l2, h2) = bound_piece(&f, &df, alpha, 0.0, b, 0.25 / (alpha * alpha), false);
@@ -265,6 +268,37 @@ fn sqrt_fast(a: f64, b: f64, sb: f64) -> Option<Approx> {
     // fl(sum/4 * (1+8U)) >= sum/4 (1+8U)(1-U) >= sum/(4(1-U)).
     let hi = 0.25 * sum * (1.0 + 8.0 * round::U);
     let ap = finish(alpha, ga.min(gb), hi);
+    if ap.is_entire() {
+        None
+    } else {
+        Some(ap)
+    }
+}
+
+/// Fast path of [`sqrt`] for `a < 0 < b < inf` with the slope `alpha > 0` chosen there,
+/// in closed form: on `[a, 0]` (where the extended `sqrt` is 0) `g = -alpha*x` runs
+/// from `-alpha*a` to 0; on `[0, b]` `g` is concave, so its minimum is at an end (`0` or
+/// `sqrt(b) - alpha*b`) and its maximum at most `1/(4 alpha)` (see [`sqrt_fast`]), or
+/// `g(b)` when the stationary point `1/(4 alpha^2)` lies beyond `b`. The
+/// general path computes the same bounds through a tangent at an approximate
+/// stationary point, with several more roundings and divisions (R-functions take this
+/// path whenever both their arguments' ranges hold 0). `None` when `alpha` is not a
+/// normal positive float.
+#[inline]
+fn sqrt_fast_across(a: f64, b: f64, sb: f64, alpha: f64) -> Option<Approx> {
+    if !(alpha >= f64::MIN_POSITIVE && alpha.is_finite()) {
+        return None;
+    }
+    let gb = (sb.next_down() - (alpha * b).next_up()).next_down();
+    // The stationary point 1/(4 alpha^2) lies beyond b when alpha sqrt(b) < 1/2 (with
+    // a wide margin for rounding): then g increases on [0, b] and g(b) is its maximum.
+    let top = if 2.0 * alpha * sb <= 1.0 - 1e-9 {
+        (sb.next_up() - (alpha * b).next_down()).next_up()
+    } else {
+        (0.25 / alpha).next_up()
+    };
+    let hi = top.max((-(alpha * a)).next_up());
+    let ap = finish(alpha, gb.min(0.0), hi);
     if ap.is_entire() {
         None
     } else {
