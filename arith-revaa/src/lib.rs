@@ -431,7 +431,7 @@ impl<const N: usize> Real for RevAa<N> {
         let main = h + tx0.abs() * x.e + ty0.abs() * y.e;
         let e = up_abs(main + U * r, k_mul(N) + 4);
         let s = RevAa { x0: c0, xs, e };
-        let (lo, hi) = s.bounds();
+        let (lo, hi) = fp::bounds_fast(c0, &s.xs, e);
         if !(lo.is_finite() && hi.is_finite()) {
             return Self::UNBOUNDED;
         }
