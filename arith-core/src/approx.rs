@@ -213,6 +213,7 @@ pub fn sqrt(a: f64, b: f64) -> Approx {
 
 /// A lower bound of `x^2 + y^2` for `x ∈ [x.0, x.1]`, `y ∈ [y.0, y.1]` (mignitudes
 /// squared, rounded down; `0` when a range is NaN or holds 0).
+#[inline]
 pub fn sum_sq_floor(x: (f64, f64), y: (f64, f64)) -> f64 {
     let mig = |(lo, hi): (f64, f64)| {
         if lo > 0.0 {
@@ -237,6 +238,7 @@ pub fn sum_sq_floor(x: (f64, f64), y: (f64, f64)) -> f64 {
 
 /// [`sqrt`] on `[a, b]` for an argument known to be `>= floor` as well: the
 /// approximation on `[max(a, floor), b]` (sound: the argument lies in both).
+#[inline]
 pub fn sqrt_at_least(a: f64, b: f64, floor: f64) -> Approx {
     if floor.is_nan() || floor <= a || floor > b {
         return sqrt(a, b);

@@ -121,7 +121,9 @@ impl<const N: usize> Raa<N> {
     /// `unbounded` is the answer when the range itself is unbounded.
     #[inline]
     fn unary(&self, f: fn(f64, f64) -> Approx, unbounded: Self) -> Self {
-        let (lo, hi) = self.bounds();
+        // The approximation's domain only has to enclose the values: the cheap bounds
+        // (an ulp of slack) do, at a fraction of the directed ones' cost.
+        let (lo, hi) = fp::bounds_fast(self.x0, &self.xs, self.acc);
         if !(lo.is_finite() && hi.is_finite()) {
             return unbounded;
         }
@@ -384,17 +386,9 @@ impl<const N: usize> Real for Raa<N> {
         self.unary(approx::sqrt, Self::UNBOUNDED)
     }
 
+    /// See [`arith_core::affine_hypot`].
     fn hypot(&self, other: &Self) -> Self {
-        let s = self.sqr() + other.sqr();
-        let (lo, hi) = s.bounds();
-        if !(lo.is_finite() && hi.is_finite()) {
-            return Self::UNBOUNDED;
-        }
-        // Cheaper than two more `bounds()` (a third of a CSG evaluation's time).
-        let mx = fp::mig_lower(self.x0, &self.xs, self.acc);
-        let my = fp::mig_lower(other.x0, &other.xs, other.acc);
-        let floor = approx::sum_sq_floor((mx, mx), (my, my));
-        s.apply(approx::sqrt_at_least(lo, hi, floor))
+        arith_core::affine_hypot!(self, other, acc, Raa)
     }
 
     fn recip(&self) -> Self {

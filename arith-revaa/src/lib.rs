@@ -408,39 +408,9 @@ impl<const N: usize> Real for RevAa<N> {
         self.unary(approx::sqrt, Self::UNBOUNDED)
     }
 
-    /// `sqrt(x² + y²)` with `x² + y²` built in one pass: each square is the Chebyshev
-    /// square of [`Real::sqr`] (`x0² + ½Wx² + 2 x0 Lx ± (2|x0| ex + ½Wx²)`, `Wx >= u + ex`),
-    /// the two summed before a single rounding bound; then `sqrt` is approximated on the
-    /// sum's range cut at the floor `mig(x)² + mig(y)²` (see [`Real::hypot`]). The
-    /// R-functions spend most of an evaluation here.
+    /// See [`arith_core::affine_hypot`].
     fn hypot(&self, other: &Self) -> Self {
-        let (x, y) = (self, other);
-        let wx = up_rel(x.xs.iter().fold(x.e, |s, c| s + c.abs()), N + 1);
-        let wy = up_rel(y.xs.iter().fold(y.e, |s, c| s + c.abs()), N + 1);
-        let (px, py) = (x.x0 * x.x0, y.x0 * y.x0);
-        let (wwx, wwy) = (wx * wx, wy * wy);
-        let h = 0.5 * (wwx + wwy);
-        let c0 = px + py + h;
-        let (tx0, ty0) = (2.0 * x.x0, 2.0 * y.x0);
-        let mut r = px + py + wwx + wwy + h + c0.abs();
-        let mut xs = [0.0; N];
-        for ((z, xi), yi) in xs.iter_mut().zip(&x.xs).zip(&y.xs) {
-            let a = tx0 * xi;
-            let b = ty0 * yi;
-            *z = a + b;
-            r += a.abs() + b.abs() + z.abs();
-        }
-        let main = h + tx0.abs() * x.e + ty0.abs() * y.e;
-        let e = up_abs(main + U * r, k_mul(N) + 4);
-        let s = RevAa { x0: c0, xs, e };
-        let (lo, hi) = fp::bounds_fast(c0, &s.xs, e);
-        if !(lo.is_finite() && hi.is_finite()) {
-            return Self::UNBOUNDED;
-        }
-        let mx = fp::mig_lower(x.x0, &x.xs, x.e);
-        let my = fp::mig_lower(y.x0, &y.xs, y.e);
-        let floor = approx::sum_sq_floor((mx, mx), (my, my));
-        s.apply(approx::sqrt_at_least(lo, hi, floor))
+        arith_core::affine_hypot!(self, other, e, RevAa)
     }
 
     fn recip(&self) -> Self {
