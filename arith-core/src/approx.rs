@@ -251,10 +251,9 @@ pub fn sqrt_at_least(a: f64, b: f64, floor: f64) -> Approx {
 /// `g(x) = sqrt(x) - alpha*x` is concave, so its minimum over `[a, b]` is at an end, and
 /// for every real `x > 0` and any `alpha > 0`, `sqrt(x) - alpha*x <= 1/(4 alpha)`
 /// (AM-GM: `alpha*x + 1/(4 alpha) >= sqrt(x)`, equality at `x = 1/(4 alpha^2)`). So the
-/// upper bound is one division, whatever float `alpha` came out. The ends: `sqrt` is
-/// correctly rounded, so `sqrt(a) >= next_down(fl(sqrt(a)))`, and one rounded product
-/// or difference is within one ulp of the exact one (`next_up`/`next_down` cover it,
-/// subnormal results included). `None` when `alpha` is not a normal positive float.
+/// upper bound needs no division of its own (see the body), whatever float `alpha` came
+/// out. The ends are computed in round to nearest with one allowance for their
+/// roundings. `None` when `alpha` is not a normal positive float.
 #[inline]
 fn sqrt_fast(a: f64, b: f64, sb: f64) -> Option<Approx> {
     let sa = a.sqrt();
@@ -263,13 +262,19 @@ fn sqrt_fast(a: f64, b: f64, sb: f64) -> Option<Approx> {
     if !(alpha >= f64::MIN_POSITIVE && alpha.is_finite()) {
         return None;
     }
-    let ga = (sa.next_down() - (alpha * a).next_up()).next_down();
-    let gb = (sb.next_down() - (alpha * b).next_up()).next_down();
+    // g = sqrt(x) - alpha*x at the ends in round to nearest, then one allowance: the root,
+    // the product and the difference are each within U of their result (the product
+    // also ETA/2), all at most sb + alpha*b in magnitude (sa <= sb, alpha*a <= alpha*b),
+    // so each end is within 2U(sb + alpha*b) + ETA/2 of its exact value, and the final
+    // subtraction rounds by U more. (Six directed steps cost more than the rest.)
+    let ga = sa - alpha * a;
+    let gb = sb - alpha * b;
+    let lo = ga.min(gb) - (4.0 * round::U * (sb + alpha * b) + 2.0 * round::ETA);
     // 1/(4 alpha) without a second division: alpha = fl(1/sum) >= (1-U)/sum, so
     // 1/alpha <= sum/(1-U); sum/4 is exact (alpha normal: sum is not subnormal), and
     // fl(sum/4 * (1+8U)) >= sum/4 (1+8U)(1-U) >= sum/(4(1-U)).
     let hi = 0.25 * sum * (1.0 + 8.0 * round::U);
-    let ap = finish(alpha, ga.min(gb), hi);
+    let ap = finish(alpha, lo, hi);
     if ap.is_entire() {
         None
     } else {
