@@ -250,8 +250,10 @@ impl Culler {
                     cur = stack[sp];
                 } else if rest < s.1 {
                     // As for rays: a little longer than the slice just proved empty.
-                    let step = (cur.1 - cur.0) * crate::ray::MARCH_GROWTH;
-                    let end = if rest + 1.5 * step >= s.1 {
+                    // Never thinner than a slice worth testing (progress is certain).
+                    let step = ((cur.1 - cur.0) * crate::ray::MARCH_GROWTH)
+                        .max(width * rest.max(0.0) + self.margin);
+                    let end = if rest + 1.5 * step >= s.1 || rest + step <= rest {
                         s.1
                     } else {
                         rest + step

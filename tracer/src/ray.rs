@@ -327,9 +327,11 @@ pub fn first_root_split<R: Range, S: Shape + ?Sized>(
             // `[a, b]` was just proved root-free: the next piece is a little longer than
             // that (a piece that had to be halved says the function's ranges are only
             // tight enough on pieces about that long).
-            let step = (b - a) * MARCH_GROWTH;
+            // Never shorter than the precision: a proved segment can be a single point
+            // (pruned to one), and a zero step would never end.
+            let step = ((b - a) * MARCH_GROWTH).max(params.precision.at(rest));
             a = rest;
-            b = if rest + 1.5 * step >= t1 {
+            b = if rest + 1.5 * step >= t1 || rest + step <= rest {
                 t1
             } else {
                 rest + step
@@ -345,6 +347,42 @@ pub fn first_root_split<R: Range, S: Shape + ?Sized>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use arith_core::Real;
+
+    struct Neg;
+    impl Shape for Neg {
+        fn eval<R: Real>(&self, x: R, _y: R, _z: R) -> R {
+            x * 0.0 - 1.0
+        }
+    }
+
+    /// A march that starts from a piece one ulp long (or a proved point) still crosses
+    /// the segment in a few pieces: each is at least the precision long.
+    #[test]
+    fn march_from_a_tiny_piece_ends_quickly() {
+        let params = RayParams {
+            precision: Precision {
+                abs: 1e-3,
+                rel: 0.0,
+            },
+            pruning: true,
+        };
+        for split in [1.0f64.next_up(), 1.0 + 1e-12] {
+            let mut stats = RayStats::default();
+            let hit = first_root_split::<arith_revaa::RevAa<1>, _>(
+                &Neg,
+                DVec3::ZERO,
+                DVec3::X,
+                1.0,
+                split,
+                2.0,
+                &params,
+                &mut stats,
+            );
+            assert_eq!(hit, None);
+            assert!(stats.range_evals <= 25, "{stats:?}");
+        }
+    }
 
     #[test]
     fn clip_to_box() {
