@@ -101,11 +101,7 @@ pub fn mid_rad(lo: f64, hi: f64) -> (f64, f64, f64) {
 /// slack is harmless; infinite `rad` gives infinite ends.
 #[inline]
 pub fn bounds_fast(x0: f64, xs: &[f64], e: f64) -> (f64, f64) {
-    let mut s = e;
-    for c in xs {
-        s += c.abs();
-    }
-    let rad = up_rel(s, xs.len() + 1);
+    let rad = rad_up(xs, e);
     let (lo, hi) = (x0 - rad, x0 + rad);
     (
         lo - (lo.abs() * (2.0 * U) + ETA),
@@ -129,8 +125,8 @@ macro_rules! affine_hypot {
         use $crate::affine_round as __fp;
         use $crate::round::U as __U;
         let (x, y) = ($x, $y);
-        let wx = __fp::up_rel(x.xs.iter().fold(x.$e, |s, c| s + c.abs()), N + 1);
-        let wy = __fp::up_rel(y.xs.iter().fold(y.$e, |s, c| s + c.abs()), N + 1);
+        let wx = __fp::rad_up(&x.xs, x.$e);
+        let wy = __fp::rad_up(&y.xs, y.$e);
         let (px, py) = (x.x0 * x.x0, y.x0 * y.x0);
         let (wwx, wwy) = (wx * wx, wy * wy);
         let h = 0.5 * (wwx + wwy);
@@ -150,8 +146,9 @@ macro_rules! affine_hypot {
         if !(lo.is_finite() && hi.is_finite()) {
             $ty::UNBOUNDED
         } else {
-            let mx = __fp::mig_lower(x.x0, &x.xs, x.$e);
-            let my = __fp::mig_lower(y.x0, &y.xs, y.$e);
+            // The radii are the ones the squares used.
+            let mx = __fp::mig_below(x.x0, wx);
+            let my = __fp::mig_below(y.x0, wy);
             let floor = $crate::approx::sum_sq_floor((mx, mx), (my, my));
             $ty { x0: c0, xs, $e: e }.apply($crate::approx::sqrt_at_least(lo, hi, floor))
         }
@@ -163,11 +160,18 @@ macro_rules! affine_hypot {
 /// (within `U` relative when positive) scaled down by `1 - 2U`.
 #[inline]
 pub fn mig_lower(x0: f64, xs: &[f64], e: f64) -> f64 {
-    let mut s = e;
-    for c in xs {
-        s += c.abs();
-    }
-    let rad = up_rel(s, xs.len() + 1);
+    mig_below(x0, rad_up(xs, e))
+}
+
+/// An upper bound of the radius `Σ |xs[i]| + e` of a form, without directed rounding.
+#[inline]
+pub fn rad_up(xs: &[f64], e: f64) -> f64 {
+    up_rel(xs.iter().fold(e, |s, c| s + c.abs()), xs.len() + 1)
+}
+
+/// [`mig_lower`] from the centre and an upper bound `rad` of the radius.
+#[inline]
+pub fn mig_below(x0: f64, rad: f64) -> f64 {
     let m = x0.abs() - rad;
     if m > 0.0 {
         m * (1.0 - 2.0 * U)

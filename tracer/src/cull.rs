@@ -253,11 +253,7 @@ impl Culler {
                     // Never thinner than a slice worth testing (progress is certain).
                     let step = ((cur.1 - cur.0) * crate::ray::MARCH_GROWTH)
                         .max(width * rest.max(0.0) + self.margin);
-                    let end = if rest + 1.5 * step >= s.1 || rest + step <= rest {
-                        s.1
-                    } else {
-                        rest + step
-                    };
+                    let end = crate::ray::next_piece(rest, s.1, step);
                     cur = (rest, end);
                     rest = end;
                 } else {

@@ -194,6 +194,18 @@ fn point_on_ray<S: Shape + ?Sized>(shape: &S, o: DVec3, d: DVec3, t: f64) -> f64
 /// the noisy sphere, hair and the microstructure).
 pub const MARCH_GROWTH: f64 = 1.5;
 
+/// The end of the next piece of a march from `rest` towards `end` whose step is `step`:
+/// the whole rest when that is less than one and a half steps away (or the step is lost
+/// to rounding), so no sliver is left over.
+#[inline]
+pub(crate) fn next_piece(rest: f64, end: f64, step: f64) -> f64 {
+    if rest + 1.5 * step >= end || rest + step <= rest {
+        end
+    } else {
+        rest + step
+    }
+}
+
 /// Depth of the explicit subdivision stack. Halving stops at the precision (whose floor
 /// is positive) or at floating-point resolution, long before this; should it ever fill,
 /// the segment at hand is reported as a root (a hit, never a miss).
@@ -326,16 +338,12 @@ pub fn first_root_split<R: Range, S: Shape + ?Sized>(
             }
             // `[a, b]` was just proved root-free: the next piece is a little longer than
             // that (a piece that had to be halved says the function's ranges are only
-            // tight enough on pieces about that long).
-            // Never shorter than the precision: a proved segment can be a single point
-            // (pruned to one), and a zero step would never end.
+            // tight enough on pieces about that long), and never shorter than the
+            // precision (a proved segment can be a single point, pruned to one, and a
+            // zero step would never end).
             let step = ((b - a) * MARCH_GROWTH).max(params.precision.at(rest));
             a = rest;
-            b = if rest + 1.5 * step >= t1 || rest + step <= rest {
-                t1
-            } else {
-                rest + step
-            };
+            b = next_piece(rest, t1, step);
             rest = b;
             continue;
         }
