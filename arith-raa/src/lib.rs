@@ -465,8 +465,8 @@ impl<const N: usize> Range for Raa<N> {
         let (lo, hi) = if lo <= hi { (lo, hi) } else { (hi, lo) };
         let (m, r, err) = mid_rad(lo, hi);
         if i < N {
-            let mut xs = [0.0; N];
-            xs[i] = r;
+            // Built lane by lane: a store at index `i` read back as a vector stalls.
+            let xs = core::array::from_fn(|k| if k == i { r } else { 0.0 });
             Raa {
                 x0: m,
                 xs,
@@ -498,6 +498,21 @@ impl<const N: usize> Range for Raa<N> {
         } else {
             (f64::NEG_INFINITY, f64::INFINITY)
         }
+    }
+
+    /// `0 ∈ bounds()` without the bounds: with the same radius `rad` (rounded up), the
+    /// directed `x0 - rad` is above 0 exactly when `x0 > rad` (a positive difference of
+    /// two floats is at least the smallest subnormal), and alike for `x0 + rad < 0`.
+    /// Bounds that may overflow (`|x0| + rad` rounds to `MAX` or more) or are NaN hold 0,
+    /// as `bounds()` makes them the whole line.
+    #[inline]
+    fn contains_zero(&self) -> bool {
+        let mut rad = self.acc;
+        for c in &self.xs {
+            rad = add_dir_up(rad, c.abs());
+        }
+        let x = self.x0.abs();
+        !(x > rad && x + rad < f64::MAX)
     }
 
     /// `f0 = x0`, `f1 = xs[0]`, `e = Σ_{i>=1} |xi| + acc` rounded up.

@@ -273,9 +273,17 @@ impl<const N: usize> Mul for RevAa<N> {
     /// diagonal terms, where `εi² >= 0` justifies it); for `N = 1` both coincide.
     /// Written with nonnegative sums only, so rounding is bounded without cancellation.
     #[inline]
-    #[allow(clippy::needless_range_loop)] // several arrays indexed together
     fn mul(self, y: Self) -> Self {
-        let x = self;
+        mul_forms(self, y)
+    }
+}
+
+/// [`Mul`] for [`RevAa`]: inlined into `sqr` as well, whose fallback `x * x` then shares
+/// the square's loads and products (the same operations, so the same result).
+#[inline(always)]
+#[allow(clippy::needless_range_loop)] // several arrays indexed together
+fn mul_forms<const N: usize>(x: RevAa<N>, y: RevAa<N>) -> RevAa<N> {
+    {
         let p0 = x.x0 * y.x0;
         let mut d = 0.0; // Σ xi yi
         let mut diag = 0.0; // Σ |xi yi|
@@ -361,7 +369,7 @@ impl<const N: usize> Real for RevAa<N> {
         let m = x0.abs() + w;
         let gain_survives = w * w - s2 > fp::sqr_margin(N) * (m * m) + fp::TINY;
         if !gain_survives {
-            return *self * *self;
+            return mul_forms(*self, *self);
         }
         let p0 = x0 * x0;
         let ww = w * w;
@@ -487,8 +495,8 @@ impl<const N: usize> Range for RevAa<N> {
         let (lo, hi) = if lo <= hi { (lo, hi) } else { (hi, lo) };
         let (m, r, err) = mid_rad(lo, hi);
         if i < N {
-            let mut xs = [0.0; N];
-            xs[i] = r;
+            // Built lane by lane: a store at index `i` read back as a vector stalls.
+            let xs = core::array::from_fn(|k| if k == i { r } else { 0.0 });
             RevAa { x0: m, xs, e: err }
         } else {
             RevAa {
@@ -516,6 +524,21 @@ impl<const N: usize> Range for RevAa<N> {
         } else {
             (f64::NEG_INFINITY, f64::INFINITY)
         }
+    }
+
+    /// `0 ∈ bounds()` without the bounds: with the same radius `rad` (rounded up), the
+    /// directed `x0 - rad` is above 0 exactly when `x0 > rad` (a positive difference of
+    /// two floats is at least the smallest subnormal), and alike for `x0 + rad < 0`.
+    /// Bounds that may overflow (`|x0| + rad` rounds to `MAX` or more) or are NaN hold 0,
+    /// as `bounds()` makes them the whole line.
+    #[inline]
+    fn contains_zero(&self) -> bool {
+        let mut rad = self.e;
+        for c in &self.xs {
+            rad = add_dir_up(rad, c.abs());
+        }
+        let x = self.x0.abs();
+        !(x > rad && x + rad < f64::MAX)
     }
 
     /// `f0 = x0`, `f1 = xs[0]`, `e = Σ_{i>=1} |xi| + e` rounded up.

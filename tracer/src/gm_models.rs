@@ -321,7 +321,7 @@ impl GmModel {
         }
     }
 
-    fn name(&self) -> String {
+    pub fn name(&self) -> String {
         match *self {
             GmModel::Mitchell => "mitchell-gm".into(),
             GmModel::Blobby => "blobby".into(),

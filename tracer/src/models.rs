@@ -324,18 +324,26 @@ pub fn all() -> Vec<Model> {
     v
 }
 
-/// The model named `name` (case-insensitive); the error lists the valid names.
+/// The model named `name` (case-insensitive); the error lists the valid names. Only the
+/// model found is built (some models compute a Lipschitz bound when built).
 pub fn find(name: &str) -> Result<Model, String> {
-    let all = all();
-    let names: Vec<String> = all.iter().map(|m| m.name.clone()).collect();
-    all.into_iter()
-        .find(|m| m.name.eq_ignore_ascii_case(name))
-        .ok_or_else(|| {
-            format!(
-                "unknown model '{name}' (expected one of: {})",
-                names.join(", ")
-            )
-        })
+    let is = |n: &str| n.eq_ignore_ascii_case(name);
+    if let Some(m) = PaperModel::ALL.iter().find(|m| is(m.name())) {
+        return Ok(m.model());
+    }
+    let gm = crate::gm_models::GmModel::all();
+    if let Some(m) = gm.iter().find(|m| is(&m.name())) {
+        return Ok(m.model());
+    }
+    let names: Vec<String> = PaperModel::ALL
+        .iter()
+        .map(|m| m.name().to_string())
+        .chain(gm.iter().map(|m| m.name()))
+        .collect();
+    Err(format!(
+        "unknown model '{name}' (expected one of: {})",
+        names.join(", ")
+    ))
 }
 
 #[cfg(test)]
