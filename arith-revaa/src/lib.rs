@@ -77,6 +77,27 @@ impl<const N: usize> RevAa<N> {
         self.e
     }
 
+    /// The Chebyshev square of [`Real::sqr`] for `w >= u + e` (its bound may overflow).
+    #[inline(always)]
+    fn cheb_sqr(&self, w: f64) -> Self {
+        let x0 = self.x0;
+        let p0 = x0 * x0;
+        let ww = w * w;
+        let h = 0.5 * ww;
+        let c0 = p0 + h;
+        let tx0 = 2.0 * x0;
+        let mut r = p0.abs() + ww + c0.abs();
+        let mut xs = [0.0; N];
+        for (z, c) in xs.iter_mut().zip(&self.xs) {
+            *z = tx0 * c;
+            r += z.abs();
+        }
+        // h stands for ½W² in the radius; its own rounding (<= U ww/2 + ETA) is in r.
+        let main = h + tx0.abs() * self.e;
+        let e = up_abs(main + U * r, k_mul(N));
+        RevAa { x0: c0, xs, e }
+    }
+
     /// The unary affine operation of Section 3.4 with the shared approximation `a`:
     /// `alpha*x + zeta`, `e = delta + |alpha| e_x + rounding errors`.
     #[inline]
@@ -368,29 +389,30 @@ impl<const N: usize> Real for RevAa<N> {
         // x * x after rounding either, not only in exact arithmetic. Both are sound.
         let m = x0.abs() + w;
         let gain_survives = w * w - s2 > fp::sqr_margin(N) * (m * m) + fp::TINY;
+        if N == 1 {
+            // Both, then a select: whether the gain survives follows the model's
+            // operations (the first squares of a ray's coordinates never gain), and a
+            // mispredicted branch costs more than the short product.
+            let prod = mul_forms(*self, *self);
+            let cheb = self.cheb_sqr(w);
+            let ok = gain_survives && cheb.e.is_finite();
+            let pick = |a: f64, b: f64| if ok { a } else { b };
+            return RevAa {
+                x0: pick(cheb.x0, prod.x0),
+                xs: core::array::from_fn(|k| pick(cheb.xs[k], prod.xs[k])),
+                e: pick(cheb.e, prod.e),
+            };
+        }
         if !gain_survives {
             return mul_forms(*self, *self);
         }
-        let p0 = x0 * x0;
-        let ww = w * w;
-        let h = 0.5 * ww;
-        let c0 = p0 + h;
-        let tx0 = 2.0 * x0;
-        let mut r = p0.abs() + ww + c0.abs();
-        let mut xs = [0.0; N];
-        for (z, c) in xs.iter_mut().zip(&self.xs) {
-            *z = tx0 * c;
-            r += z.abs();
-        }
-        // h stands for ½W² in the radius; its own rounding (<= U ww/2 + ETA) is in r.
-        let main = h + tx0.abs() * self.e;
-        let e = up_abs(main + U * r, k_mul(N));
-        if !e.is_finite() {
+        let cheb = self.cheb_sqr(w);
+        if !cheb.e.is_finite() {
             // Near the overflow threshold the rounding bookkeeping of the longer
             // formula can overflow first; x * x is the sound, never-wider answer.
             return *self * *self;
         }
-        RevAa { x0: c0, xs, e }
+        cheb
     }
 
     fn powi(&self, n: i32) -> Self {
