@@ -63,6 +63,7 @@
 pub mod checks;
 pub mod expr;
 pub mod mp;
+pub mod review;
 pub mod strategies;
 
 pub use expr::{Bin, Expr, Un};
