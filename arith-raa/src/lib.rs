@@ -503,8 +503,7 @@ impl<const N: usize> Range for Raa<N> {
     /// `0 ∈ bounds()` without the bounds: with the same radius `rad` (rounded up), the
     /// directed `x0 - rad` is above 0 exactly when `x0 > rad` (a positive difference of
     /// two floats is at least the smallest subnormal), and alike for `x0 + rad < 0`.
-    /// Bounds that may overflow (`|x0| + rad` rounds to `MAX` or more) or are NaN hold 0,
-    /// as `bounds()` makes them the whole line.
+    /// Overflowing or NaN bounds hold 0, as `bounds()` makes them the whole line.
     #[inline]
     fn contains_zero(&self) -> bool {
         let mut rad = self.acc;
@@ -512,7 +511,8 @@ impl<const N: usize> Range for Raa<N> {
             rad = add_dir_up(rad, c.abs());
         }
         let x = self.x0.abs();
-        !(x > rad && x + rad < f64::MAX)
+        // The bound away from 0 is `±add_dir_up(|x0|, rad)` (rounding is symmetric).
+        !(x > rad && add_dir_up(x, rad).is_finite())
     }
 
     /// `f0 = x0`, `f1 = xs[0]`, `e = Σ_{i>=1} |xi| + acc` rounded up.

@@ -369,3 +369,34 @@ proptest! {
         }
     }
 }
+
+/// Any `f64` an affine form can hold: ordinary, tiny, huge (near overflow), zero.
+fn any_part() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        -4.0..4.0f64,
+        (-1.0..1.0f64, -1075i32..1024).prop_map(|(m, e)| m * 2f64.powi(e)),
+        Just(0.0),
+        Just(f64::MAX),
+        Just(-f64::MAX),
+    ]
+}
+
+proptest! {
+    /// `contains_zero` (computed without the bounds) says exactly whether
+    /// `0 ∈ bounds()`, for RevAA and RAA* alike, overflow and subnormals included.
+    #[test]
+    fn contains_zero_is_zero_in_bounds(
+        x0 in any_part(),
+        xs in proptest::array::uniform3(any_part()),
+        e in any_part(),
+    ) {
+        let e = e.abs();
+        let zero_in = |(lo, hi): (f64, f64)| lo <= 0.0 && 0.0 <= hi;
+        let r = rev(x0, xs, e);
+        prop_assert_eq!(r.contains_zero(), zero_in(r.bounds()), "{:?} {:?}", r, r.bounds());
+        let r1 = rev(x0, [xs[0]], e);
+        prop_assert_eq!(r1.contains_zero(), zero_in(r1.bounds()), "{:?}", r1);
+        let a = Raa::new(x0, xs, e).unwrap();
+        prop_assert_eq!(a.contains_zero(), zero_in(a.bounds()), "{:?} {:?}", a, a.bounds());
+    }
+}
