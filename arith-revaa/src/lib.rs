@@ -100,7 +100,7 @@ impl<const N: usize> RevAa<N> {
 
     /// The unary affine operation of Section 3.4 with the shared approximation `a`:
     /// `alpha*x + zeta`, `e = delta + |alpha| e_x + rounding errors`.
-    #[inline]
+    #[inline(always)]
     fn apply(&self, a: Approx) -> Self {
         if a.is_entire() {
             return Self::UNBOUNDED;
@@ -133,7 +133,7 @@ impl<const N: usize> RevAa<N> {
 
     /// A non-affine function through its shared approximation on the current range.
     /// `unbounded` is the answer when the range itself is unbounded.
-    #[inline]
+    #[inline(always)]
     fn unary(&self, f: fn(f64, f64) -> Approx, unbounded: Self) -> Self {
         // The approximation's domain only has to enclose the values: the cheap bounds
         // (an ulp of slack) do, at a fraction of the directed ones' cost.
@@ -147,7 +147,7 @@ impl<const N: usize> RevAa<N> {
 
 impl<const N: usize> Add for RevAa<N> {
     type Output = Self;
-    #[inline]
+    #[inline(always)]
     fn add(self, y: Self) -> Self {
         let x0 = self.x0 + y.x0;
         let mut s = self.e + y.e + U * x0.abs();
@@ -167,7 +167,7 @@ impl<const N: usize> Add for RevAa<N> {
 impl<const N: usize> Sub for RevAa<N> {
     type Output = Self;
     /// The radii add: the two error intervals are independent.
-    #[inline]
+    #[inline(always)]
     fn sub(self, y: Self) -> Self {
         let x0 = self.x0 - y.x0;
         let mut s = self.e + y.e + U * x0.abs();
@@ -186,7 +186,7 @@ impl<const N: usize> Sub for RevAa<N> {
 
 impl<const N: usize> Neg for RevAa<N> {
     type Output = Self;
-    #[inline]
+    #[inline(always)]
     fn neg(self) -> Self {
         let mut xs = self.xs;
         for c in &mut xs {
@@ -202,7 +202,7 @@ impl<const N: usize> Neg for RevAa<N> {
 
 impl<const N: usize> Add<f64> for RevAa<N> {
     type Output = Self;
-    #[inline]
+    #[inline(always)]
     fn add(self, c: f64) -> Self {
         let x0 = self.x0 + c;
         RevAa {
@@ -215,7 +215,7 @@ impl<const N: usize> Add<f64> for RevAa<N> {
 
 impl<const N: usize> Sub<f64> for RevAa<N> {
     type Output = Self;
-    #[inline]
+    #[inline(always)]
     fn sub(self, c: f64) -> Self {
         let x0 = self.x0 - c;
         RevAa {
@@ -228,7 +228,7 @@ impl<const N: usize> Sub<f64> for RevAa<N> {
 
 impl<const N: usize> Mul<f64> for RevAa<N> {
     type Output = Self;
-    #[inline]
+    #[inline(always)]
     fn mul(self, c: f64) -> Self {
         let x0 = self.x0 * c;
         let mut r = x0.abs();
@@ -248,7 +248,7 @@ impl<const N: usize> Mul<f64> for RevAa<N> {
 
 impl<const N: usize> Div<f64> for RevAa<N> {
     type Output = Self;
-    #[inline]
+    #[inline(always)]
     fn div(self, c: f64) -> Self {
         if c == 0.0 {
             return Self::UNBOUNDED;
@@ -293,7 +293,7 @@ impl<const N: usize> Mul for RevAa<N> {
     /// paper's formula is sound for `N > 1` as well (the `½` reduction only touches the
     /// diagonal terms, where `εi² >= 0` justifies it); for `N = 1` both coincide.
     /// Written with nonnegative sums only, so rounding is bounded without cancellation.
-    #[inline]
+    #[inline(always)]
     fn mul(self, y: Self) -> Self {
         mul_forms(self, y)
     }
@@ -348,7 +348,7 @@ fn mul_forms<const N: usize>(x: RevAa<N>, y: RevAa<N>) -> RevAa<N> {
 impl<const N: usize> Div for RevAa<N> {
     type Output = Self;
     /// `x * recip(y)`.
-    #[inline]
+    #[inline(always)]
     #[allow(clippy::suspicious_arithmetic_impl)]
     fn div(self, y: Self) -> Self {
         self * y.recip()
@@ -373,7 +373,7 @@ impl<const N: usize> Real for RevAa<N> {
     /// `x²` on `[x0 - W, x0 + W]` gives.) Compared with `x * x`, whose quadratic part
     /// is `[S - W², W²]` (`S = Σ xi²`), the upper end is the same and the lower end is
     /// higher by `W² - S >= 0`, so it is never wider in exact arithmetic.
-    #[inline]
+    #[inline(always)]
     fn sqr(&self) -> Self {
         let x0 = self.x0;
         // W: an upper bound of u + ex (exact sums stay exact, so N = 1, ex = 0 gives |x1|).
@@ -552,7 +552,7 @@ impl<const N: usize> Range for RevAa<N> {
     /// directed `x0 - rad` is above 0 exactly when `x0 > rad` (a positive difference of
     /// two floats is at least the smallest subnormal), and alike for `x0 + rad < 0`.
     /// Overflowing or NaN bounds hold 0, as `bounds()` makes them the whole line.
-    #[inline]
+    #[inline(always)]
     fn contains_zero(&self) -> bool {
         let mut rad = self.e;
         for c in &self.xs {
