@@ -295,7 +295,7 @@ impl<const N: usize> Mul for RevAa<N> {
     /// Written with nonnegative sums only, so rounding is bounded without cancellation.
     #[inline(always)]
     fn mul(self, y: Self) -> Self {
-        mul_forms(self, y)
+        mul_forms(self, y, true)
     }
 }
 
@@ -303,7 +303,11 @@ impl<const N: usize> Mul for RevAa<N> {
 /// the square's loads and products (the same operations, so the same result).
 #[inline(always)]
 #[allow(clippy::needless_range_loop)] // several arrays indexed together
-fn mul_forms<const N: usize>(x: RevAa<N>, y: RevAa<N>) -> RevAa<N> {
+///
+/// `cross == false` skips the off-diagonal terms; only for operands where each of them
+/// is exactly zero (finite coefficients, at most one index non-zero in both), where the
+/// result is then the same bit for bit.
+fn mul_forms<const N: usize>(x: RevAa<N>, y: RevAa<N>, cross: bool) -> RevAa<N> {
     {
         let p0 = x.x0 * y.x0;
         let mut d = 0.0; // Σ xi yi
@@ -324,7 +328,7 @@ fn mul_forms<const N: usize>(x: RevAa<N>, y: RevAa<N>) -> RevAa<N> {
             v += y.xs[i].abs();
         }
         let mut off = 0.0;
-        for i in 0..N {
+        for i in 0..N * usize::from(cross) {
             for j in i + 1..N {
                 let a = x.xs[i] * y.xs[j];
                 let b = x.xs[j] * y.xs[i];
@@ -393,7 +397,7 @@ impl<const N: usize> Real for RevAa<N> {
             // Both, then a select: whether the gain survives follows the model's
             // operations (the first squares of a ray's coordinates never gain), and a
             // mispredicted branch costs more than the short product.
-            let prod = mul_forms(*self, *self);
+            let prod = mul_forms(*self, *self, true);
             let cheb = self.cheb_sqr(w);
             let ok = gain_survives && cheb.e.is_finite();
             let pick = |a: f64, b: f64| if ok { a } else { b };
@@ -404,7 +408,10 @@ impl<const N: usize> Real for RevAa<N> {
             };
         }
         if !gain_survives {
-            return mul_forms(*self, *self);
+            // A cell's input (one coefficient, no error term) needs no cross terms.
+            let single = self.xs.iter().all(|c| c.is_finite())
+                && self.xs.iter().filter(|c| **c != 0.0).count() <= 1;
+            return mul_forms(*self, *self, !single);
         }
         let cheb = self.cheb_sqr(w);
         if !cheb.e.is_finite() {

@@ -400,3 +400,18 @@ proptest! {
         prop_assert_eq!(a.contains_zero(), zero_in(a.bounds()), "{:?} {:?}", a, a.bounds());
     }
 }
+
+proptest! {
+    /// The square of a cell's input (one coefficient, no error term) gains nothing over
+    /// `x * x` and is `x * x` bit for bit, computed without the (zero) cross terms.
+    #[test]
+    fn square_of_an_input_is_the_product_bit_for_bit(
+        i in 0usize..3,
+        a in any_part(),
+        b in any_part(),
+    ) {
+        let x = RevAa::<3>::input(i, a.min(b), a.max(b));
+        let (s, p) = (x.sqr(), x * x);
+        prop_assert_eq!(s, p, "{:?}", x);
+    }
+}
