@@ -110,17 +110,44 @@ pub fn shade(
 }
 
 /// Gamma-encodes a linear value in `[0, 1]` (clamped) to 8 bits: the first linear value
-/// of each 8-bit level, `((k - 0.5) / 255)^2.2`, then a binary search (exact, and no
-/// `powf` per pixel).
+/// of each 8-bit level, `((k - 0.5) / 255)^2.2`, tabled, and the level found from a
+/// second table (the level at each multiple of 1/4096, a lower bound) by stepping up
+/// while the next level starts at or below the value: exact, no `powf` per pixel, and
+/// mostly no step at all (a binary search over the 256 levels was 6% of a render).
 fn to_u8(c: f64) -> u8 {
-    static STARTS: std::sync::OnceLock<[f64; 256]> = std::sync::OnceLock::new();
-    let starts = STARTS.get_or_init(|| {
-        let mut s = [0.0; 256];
-        for (k, v) in s.iter_mut().enumerate().skip(1) {
+    const BUCKETS: usize = 4096;
+    struct Gamma {
+        starts: [f64; 256],
+        first: [u8; BUCKETS],
+    }
+    static GAMMA: std::sync::OnceLock<Gamma> = std::sync::OnceLock::new();
+    let g = GAMMA.get_or_init(|| {
+        let mut starts = [0.0; 256];
+        for (k, v) in starts.iter_mut().enumerate().skip(1) {
             *v = ((k as f64 - 0.5) / 255.0).powf(2.2);
         }
-        s
+        let mut first = [0u8; BUCKETS];
+        for (j, f) in first.iter_mut().enumerate() {
+            *f = level_by_search(&starts, j as f64 / BUCKETS as f64);
+        }
+        Gamma { starts, first }
     });
+    // NaN and values at or below 0 are level 0, values at or above 1 level 255.
+    if !(c > 0.0) {
+        return 0;
+    }
+    if c >= 1.0 {
+        return 255;
+    }
+    let mut k = g.first[((c * BUCKETS as f64) as usize).min(BUCKETS - 1)] as usize;
+    while k < 255 && g.starts[k + 1] <= c {
+        k += 1;
+    }
+    k as u8
+}
+
+/// The last level whose first value is at or below `c` (binary search).
+fn level_by_search(starts: &[f64; 256], c: f64) -> u8 {
     // NaN lands on 0 (`0.0 <= c` holds for every other value).
     (starts.partition_point(|&v| v <= c).max(1) - 1) as u8
 }
@@ -155,6 +182,25 @@ mod tests {
             (0, 0, 255, 255)
         );
         assert_eq!(to_u8(f64::NAN), 0);
+    }
+
+    /// The two-table lookup gives the binary search's level everywhere.
+    #[test]
+    fn table_lookup_matches_the_search() {
+        let mut starts = [0.0; 256];
+        for (k, v) in starts.iter_mut().enumerate().skip(1) {
+            *v = ((k as f64 - 0.5) / 255.0).powf(2.2);
+        }
+        let mut cs: Vec<f64> = (0..=200_000).map(|k| k as f64 / 200_000.0).collect();
+        // Every level's boundary and its neighbours, the bucket edges, and tiny values.
+        for &v in &starts {
+            cs.extend([v.next_down(), v, v.next_up()]);
+        }
+        cs.extend((0..=4096).map(|j| j as f64 / 4096.0));
+        cs.extend([1e-300, 5e-324, 1e-7, 0.999_999_999, 1.0f64.next_down()]);
+        for c in cs {
+            assert_eq!(to_u8(c), level_by_search(&starts, c), "{c:e}");
+        }
     }
 
     #[test]
