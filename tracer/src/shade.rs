@@ -133,7 +133,7 @@ fn to_u8(c: f64) -> u8 {
         Gamma { starts, first }
     });
     // NaN and values at or below 0 are level 0, values at or above 1 level 255.
-    if !(c > 0.0) {
+    if c.is_nan() || c <= 0.0 {
         return 0;
     }
     if c >= 1.0 {
