@@ -7,7 +7,7 @@
 use crate::arith::ArithKind;
 use crate::camera::Camera;
 use crate::cull::{CullStats, Culler, Depths};
-use crate::ray::{clip, first_root, first_root_split, Precision, RayParams, RayStats};
+use crate::ray::{clip, first_root, first_root_scratch, Precision, RayParams, RayStats};
 use crate::shade::{self, Light, Material};
 use crate::shape::{Aabb, Model, Shape, View};
 use arith_core::Arithmetic;
@@ -316,6 +316,7 @@ fn render_tile<A: Arithmetic, S: Shape + ?Sized>(
     }
     let mut depth = vec![f32::INFINITY; n];
     let mut st = RenderStats::default();
+    let mut stack = Vec::with_capacity(64);
     let mut trace = |i: u32, j: u32, depths: Depths| {
         let k = (j - j0) as usize * tw + (i - i0) as usize;
         st.rays += 1;
@@ -338,7 +339,8 @@ fn render_tile<A: Arithmetic, S: Shape + ?Sized>(
             return;
         }
         let mut rs = RayStats::default();
-        let hit = first_root_split::<A::Ray, S>(shape, o, d, t0, split, t1, params, &mut rs);
+        let seg = (t0, split, t1);
+        let hit = first_root_scratch::<A::Ray, S>(shape, o, d, seg, params, &mut rs, &mut stack);
         st.range_evals += rs.range_evals;
         st.pruned_empty += rs.pruned_empty;
         st.point_evals += rs.point_evals;
