@@ -301,51 +301,49 @@ impl<const N: usize> Mul for RevAa<N> {
 
 /// [`Mul`] for [`RevAa`]: inlined into `sqr` as well, whose fallback `x * x` then shares
 /// the square's loads and products (the same operations, so the same result).
-#[inline(always)]
-#[allow(clippy::needless_range_loop)] // several arrays indexed together
 ///
 /// `cross == false` skips the off-diagonal terms; only for operands where each of them
 /// is exactly zero (finite coefficients, at most one index non-zero in both), where the
 /// result is then the same bit for bit.
+#[inline(always)]
+#[allow(clippy::needless_range_loop)] // several arrays indexed together
 fn mul_forms<const N: usize>(x: RevAa<N>, y: RevAa<N>, cross: bool) -> RevAa<N> {
-    {
-        let p0 = x.x0 * y.x0;
-        let mut d = 0.0; // Σ xi yi
-        let mut diag = 0.0; // Σ |xi yi|
-        let mut u = 0.0;
-        let mut v = 0.0;
-        let mut r = p0.abs(); // Σ |computed values| whose rounding errors we cover
-        let mut xs = [0.0; N];
-        for i in 0..N {
-            let q = x.xs[i] * y.xs[i];
-            d += q;
-            diag += q.abs();
-            let a = x.x0 * y.xs[i];
-            let b = x.xs[i] * y.x0;
-            xs[i] = a + b;
-            r += q.abs() + d.abs() + a.abs() + b.abs() + xs[i].abs();
-            u += x.xs[i].abs();
-            v += y.xs[i].abs();
+    let p0 = x.x0 * y.x0;
+    let mut d = 0.0; // Σ xi yi
+    let mut diag = 0.0; // Σ |xi yi|
+    let mut u = 0.0;
+    let mut v = 0.0;
+    let mut r = p0.abs(); // Σ |computed values| whose rounding errors we cover
+    let mut xs = [0.0; N];
+    for i in 0..N {
+        let q = x.xs[i] * y.xs[i];
+        d += q;
+        diag += q.abs();
+        let a = x.x0 * y.xs[i];
+        let b = x.xs[i] * y.x0;
+        xs[i] = a + b;
+        r += q.abs() + d.abs() + a.abs() + b.abs() + xs[i].abs();
+        u += x.xs[i].abs();
+        v += y.xs[i].abs();
+    }
+    let mut off = 0.0;
+    for i in 0..N * usize::from(cross) {
+        for j in i + 1..N {
+            let a = x.xs[i] * y.xs[j];
+            let b = x.xs[j] * y.xs[i];
+            let s = a + b;
+            off += s.abs();
+            r += a.abs() + b.abs() + s.abs();
         }
-        let mut off = 0.0;
-        for i in 0..N * usize::from(cross) {
-            for j in i + 1..N {
-                let a = x.xs[i] * y.xs[j];
-                let b = x.xs[j] * y.xs[i];
-                let s = a + b;
-                off += s.abs();
-                r += a.abs() + b.abs() + s.abs();
-            }
-        }
-        let hd = 0.5 * d;
-        let x0 = p0 + hd;
-        r += hd.abs() + x0.abs();
-        let main = x.e * y.e + y.e * (x.x0.abs() + u) + x.e * (y.x0.abs() + v) + 0.5 * diag + off;
-        RevAa {
-            x0,
-            xs,
-            e: up_abs(main + U * r, k_mul(N)),
-        }
+    }
+    let hd = 0.5 * d;
+    let x0 = p0 + hd;
+    r += hd.abs() + x0.abs();
+    let main = x.e * y.e + y.e * (x.x0.abs() + u) + x.e * (y.x0.abs() + v) + 0.5 * diag + off;
+    RevAa {
+        x0,
+        xs,
+        e: up_abs(main + U * r, k_mul(N)),
     }
 }
 
@@ -408,7 +406,7 @@ impl<const N: usize> Real for RevAa<N> {
             };
         }
         if !gain_survives {
-            // A cell's input (one coefficient, no error term) needs no cross terms.
+            // A form of one symbol (a cell's input) has no cross terms.
             let single = self.xs.iter().all(|c| c.is_finite())
                 && self.xs.iter().filter(|c| **c != 0.0).count() <= 1;
             return mul_forms(*self, *self, !single);
