@@ -178,15 +178,36 @@ pub fn check_bounds_shape<R: Range>(v: &R) -> TestCaseResult {
     Ok(())
 }
 
-/// Soundness of one case: evaluate over `R::input(i, ranges[i])`, then every defined
-/// point's exact value must lie in `bounds()`.
-pub fn check_case<R: Range>(case: &Case, stats: &Stats) -> TestCaseResult {
-    let inputs: Vec<R> = case
-        .ranges
+/// `R::input(i, lo, hi)` for each range `i`.
+pub fn inputs_of<R: Range>(ranges: &[(f64, f64)]) -> Vec<R> {
+    ranges
         .iter()
         .enumerate()
         .map(|(i, &(lo, hi))| R::input(i, lo, hi))
-        .collect();
+        .collect()
+}
+
+/// The ranges with every input past `R::INPUTS` (one without its own symbol, so not
+/// correlated across an evaluation) collapsed to its midpoint.
+pub fn collapsed_ranges<R: Range>(ranges: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    ranges
+        .iter()
+        .enumerate()
+        .map(|(i, &(lo, hi))| {
+            if i < R::INPUTS {
+                (lo, hi)
+            } else {
+                let m = (lo * 0.5 + hi * 0.5).clamp(lo, hi);
+                (m, m)
+            }
+        })
+        .collect()
+}
+
+/// Soundness of one case: evaluate over `R::input(i, ranges[i])`, then every defined
+/// point's exact value must lie in `bounds()`.
+pub fn check_case<R: Range>(case: &Case, stats: &Stats) -> TestCaseResult {
+    let inputs: Vec<R> = inputs_of(&case.ranges);
     let v = case.expr.eval(&inputs);
     check_bounds_shape(&v)?;
     let (lo, hi) = v.bounds();
@@ -370,24 +391,8 @@ pub fn check_joint_inclusion<R: Range>(default_cases: u32) {
     let name = format!("{}: joint inclusion", R::NAME);
     let stats = Stats::default();
     run(&name, default_cases, s, |case| {
-        let ranges: Vec<(f64, f64)> = case
-            .ranges
-            .iter()
-            .enumerate()
-            .map(|(i, &(lo, hi))| {
-                if i < R::INPUTS {
-                    (lo, hi)
-                } else {
-                    let m = (lo * 0.5 + hi * 0.5).clamp(lo, hi);
-                    (m, m)
-                }
-            })
-            .collect();
-        let inputs: Vec<R> = ranges
-            .iter()
-            .enumerate()
-            .map(|(i, &(lo, hi))| R::input(i, lo, hi))
-            .collect();
+        let ranges = collapsed_ranges::<R>(&case.ranges);
+        let inputs: Vec<R> = inputs_of(&ranges);
         let v = case.expr.eval(&inputs);
         check_bounds_shape(&v)?;
         let (glo, ghi) = v.bounds();
@@ -478,11 +483,7 @@ pub fn check_linear_part<R: Range>(default_cases: u32) {
     let name = format!("{}: linear part", R::NAME);
     let stats = Stats::default();
     run(&name, default_cases, s, |(expr, ranges, eps1, pts)| {
-        let inputs: Vec<R> = ranges
-            .iter()
-            .enumerate()
-            .map(|(i, &(lo, hi))| R::input(i, lo, hi))
-            .collect();
+        let inputs: Vec<R> = inputs_of(&ranges);
         let v = expr.eval(&inputs);
         let Some(lin) = v.linear_part() else {
             return Ok(());

@@ -245,40 +245,56 @@ impl fmt::Display for Expr {
 /// Every unary operation, `powi` exponents in `-3..=5`, `f64` operands from
 /// [`small_const`].
 pub fn un_strategy() -> BoxedStrategy<Un> {
-    let c = small_const;
+    un_strategy_with(1, (-3i32..=5).boxed(), small_const)
+}
+
+/// Every unary operation, `powi` (weight `powi_weight` against 1 for each other
+/// operation) with exponents from `powi`, `f64` operands from `c`.
+pub fn un_strategy_with(
+    powi_weight: u32,
+    powi: BoxedStrategy<i32>,
+    c: fn() -> BoxedStrategy<f64>,
+) -> BoxedStrategy<Un> {
     prop_oneof![
-        Just(Un::Neg),
-        Just(Un::Sqr),
-        (-3i32..=5).prop_map(Un::Powi),
-        Just(Un::Sqrt),
-        Just(Un::Recip),
-        Just(Un::Exp),
-        Just(Un::Ln),
-        Just(Un::Sin),
-        Just(Un::Cos),
-        Just(Un::Abs),
-        c().prop_map(Un::AddF),
-        c().prop_map(Un::SubF),
-        c().prop_map(Un::MulF),
-        c().prop_map(Un::DivF),
-        c().prop_map(Un::RSubF),
-        c().prop_map(Un::RDivF),
+        1 => Just(Un::Neg),
+        1 => Just(Un::Sqr),
+        powi_weight => powi.prop_map(Un::Powi),
+        1 => Just(Un::Sqrt),
+        1 => Just(Un::Recip),
+        1 => Just(Un::Exp),
+        1 => Just(Un::Ln),
+        1 => Just(Un::Sin),
+        1 => Just(Un::Cos),
+        1 => Just(Un::Abs),
+        1 => c().prop_map(Un::AddF),
+        1 => c().prop_map(Un::SubF),
+        1 => c().prop_map(Un::MulF),
+        1 => c().prop_map(Un::DivF),
+        1 => c().prop_map(Un::RSubF),
+        1 => c().prop_map(Un::RDivF),
     ]
     .boxed()
 }
 
 /// Every binary operation.
+pub const BINS: [Bin; 7] = [
+    Bin::Add,
+    Bin::Sub,
+    Bin::Mul,
+    Bin::Div,
+    Bin::Min,
+    Bin::Max,
+    Bin::Hypot,
+];
+
+/// Every binary operation ([`BINS`]), uniformly.
 pub fn bin_strategy() -> BoxedStrategy<Bin> {
-    prop_oneof![
-        Just(Bin::Add),
-        Just(Bin::Sub),
-        Just(Bin::Mul),
-        Just(Bin::Div),
-        Just(Bin::Min),
-        Just(Bin::Max),
-        Just(Bin::Hypot),
-    ]
-    .boxed()
+    bin_strategy_of(&BINS)
+}
+
+/// The binary operations `ops`, uniformly.
+pub fn bin_strategy_of(ops: &'static [Bin]) -> BoxedStrategy<Bin> {
+    proptest::sample::select(ops).boxed()
 }
 
 /// Random trees of depth up to `depth` over inputs `0..inputs` and constants in

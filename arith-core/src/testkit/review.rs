@@ -10,7 +10,8 @@
 //! `linear_part` on such ranges (inexact midpoints and radii included); and two
 //! cancellation identities at every scale ([`square_identity`], [`product_identity`]).
 
-use super::checks::{self, check_bounds_shape, check_point, Case};
+use super::checks::{self, check_bounds_shape, check_point, collapsed_ranges, inputs_of, Case};
+use super::expr::{bin_strategy_of, un_strategy_with, BINS};
 use super::mp::{Mp, Verdict};
 use super::strategies::*;
 use super::{Bin, Expr, Un};
@@ -60,12 +61,11 @@ fn any_const() -> BoxedStrategy<f64> {
     prop_oneof![3 => small_const(), 2 => any_finite()].boxed()
 }
 
+/// Every unary operation, `powi` (twice as often as the others) with exponents from
+/// `-12..=12` or the extremes, operands of any magnitude.
 fn hostile_un() -> BoxedStrategy<Un> {
-    let c = any_const;
-    prop_oneof![
-        Just(Un::Neg),
-        Just(Un::Sqr),
-        (-12i32..=12).prop_map(Un::Powi),
+    let exponents = prop_oneof![
+        -12i32..=12,
         prop_oneof![
             Just(i32::MIN),
             Just(i32::MAX),
@@ -76,34 +76,13 @@ fn hostile_un() -> BoxedStrategy<Un> {
             Just(-65),
             Just(1001)
         ]
-        .prop_map(Un::Powi),
-        Just(Un::Sqrt),
-        Just(Un::Recip),
-        Just(Un::Exp),
-        Just(Un::Ln),
-        Just(Un::Sin),
-        Just(Un::Cos),
-        Just(Un::Abs),
-        c().prop_map(Un::AddF),
-        c().prop_map(Un::SubF),
-        c().prop_map(Un::MulF),
-        c().prop_map(Un::DivF),
-        c().prop_map(Un::RSubF),
-        c().prop_map(Un::RDivF),
-    ]
-    .boxed()
+    ];
+    un_strategy_with(2, exponents.boxed(), any_const)
 }
 
+/// The binary operations of `Bin` before `Hypot` was added (the review's trees).
 fn hostile_bin() -> BoxedStrategy<Bin> {
-    prop_oneof![
-        Just(Bin::Add),
-        Just(Bin::Sub),
-        Just(Bin::Mul),
-        Just(Bin::Div),
-        Just(Bin::Min),
-        Just(Bin::Max),
-    ]
-    .boxed()
+    bin_strategy_of(&BINS[..6])
 }
 
 fn hostile_expr(depth: u32) -> BoxedStrategy<Expr> {
@@ -185,23 +164,8 @@ pub fn hostile_joint<R: Range>(cases: u32) {
         cases,
         s,
         |(expr, ranges, epss)| {
-            let ranges: Vec<(f64, f64)> = ranges
-                .iter()
-                .enumerate()
-                .map(|(i, &(lo, hi))| {
-                    if i < R::INPUTS {
-                        (lo, hi)
-                    } else {
-                        let m = (lo * 0.5 + hi * 0.5).clamp(lo, hi);
-                        (m, m)
-                    }
-                })
-                .collect();
-            let inputs: Vec<R> = ranges
-                .iter()
-                .enumerate()
-                .map(|(i, &(lo, hi))| R::input(i, lo, hi))
-                .collect();
+            let ranges = collapsed_ranges::<R>(&ranges);
+            let inputs: Vec<R> = inputs_of(&ranges);
             let v = expr.eval(&inputs);
             check_bounds_shape(&v)?;
             for eps in &epss {
@@ -237,11 +201,7 @@ pub fn hostile_joint<R: Range>(cases: u32) {
 
 /// A single expression at a single point must lie in the computed bounds.
 pub fn assert_sound<R: Range>(expr: &Expr, ranges: &[(f64, f64)], point: &[f64]) {
-    let inputs: Vec<R> = ranges
-        .iter()
-        .enumerate()
-        .map(|(i, &(lo, hi))| R::input(i, lo, hi))
-        .collect();
+    let inputs: Vec<R> = inputs_of(ranges);
     let v = expr.eval(&inputs);
     let (lo, hi) = v.bounds();
     assert!(
