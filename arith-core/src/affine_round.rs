@@ -92,6 +92,59 @@ pub fn add_dir_down(a: f64, b: f64) -> f64 {
     }
 }
 
+/// The radius `Σ |xs[i]| + e` of a form, rounded up by directed steps (exact sums stay
+/// exact): what `bounds` and the Chebyshev square's `W` use.
+#[inline(always)]
+pub fn rad_dir(xs: &[f64], e: f64) -> f64 {
+    xs.iter().fold(e, |r, c| add_dir_up(r, c.abs()))
+}
+
+/// The directed bounds `x0 ∓ rad` of a form with radius `rad` (from [`rad_dir`]), the
+/// whole line when one is not finite.
+#[inline(always)]
+pub fn bounds_dir(x0: f64, rad: f64) -> (f64, f64) {
+    let lo = add_dir_down(x0, -rad);
+    let hi = add_dir_up(x0, rad);
+    if lo.is_finite() && hi.is_finite() {
+        (lo, hi)
+    } else {
+        (f64::NEG_INFINITY, f64::INFINITY)
+    }
+}
+
+/// `0 ∈ bounds_dir(x0, rad)` without the bounds: the directed `x0 - rad` is above 0
+/// exactly when `x0 > rad` (a positive difference of two floats is at least the smallest
+/// subnormal), and alike for `x0 + rad < 0`; the bound away from 0 is
+/// `±add_dir_up(|x0|, rad)` (rounding is symmetric), and an overflowing or NaN one
+/// makes the whole line.
+#[inline(always)]
+pub fn holds_zero(x0: f64, rad: f64) -> bool {
+    let x = x0.abs();
+    !(x > rad && add_dir_up(x, rad).is_finite())
+}
+
+/// The Chebyshev square of `x0 + Σ xs[i] εi ± e` for `w >= Σ|xs[i]| + e`: centre
+/// `x0² + ½w²`, coefficients `2 x0 xs[i]`, error `2|x0| e + ½w²` plus its rounding
+/// (the bound may overflow). Shared by the reduced and revised forms, whose `sqr`
+/// documents the derivation.
+#[inline(always)]
+pub fn cheb_sqr<const N: usize>(x0: f64, xs: &[f64; N], e: f64, w: f64) -> (f64, [f64; N], f64) {
+    let p0 = x0 * x0;
+    let ww = w * w;
+    let h = 0.5 * ww;
+    let c0 = p0 + h;
+    let tx0 = 2.0 * x0;
+    let mut r = p0.abs() + ww + c0.abs();
+    let mut zs = [0.0; N];
+    for (z, c) in zs.iter_mut().zip(xs) {
+        *z = tx0 * c;
+        r += z.abs();
+    }
+    // h stands for ½W² in the radius; its own rounding (<= U ww/2 + ETA) is in r.
+    let main = h + tx0.abs() * e;
+    (c0, zs, up_abs(main + U * r, k_mul(N)))
+}
+
 /// Midpoint and radius of `[lo, hi]` (`lo <= hi`) with a bound on how far they are from
 /// the real midpoint and radius: `|m - (lo+hi)/2| + |r - (hi-lo)/2| <= err`.
 /// `err == 0` whenever both are exact (the usual case).

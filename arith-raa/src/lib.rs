@@ -328,10 +328,7 @@ impl<const N: usize> Real for Raa<N> {
     fn sqr(&self) -> Self {
         let x0 = self.x0;
         // W: an upper bound of u + acc (exact sums stay exact).
-        let mut w = self.acc;
-        for c in &self.xs {
-            w = add_dir_up(w, c.abs());
-        }
+        let w = fp::rad_dir(&self.xs, self.acc);
         // The gain over x * x in width is W². Where it is below what the rounding
         // bookkeeping can blur (a few hundred ulps of (|x0| + W)², see
         // `fp::sqr_margin`), x * x itself is the answer: then sqr is never wider than
@@ -341,20 +338,7 @@ impl<const N: usize> Real for Raa<N> {
         if !gain_survives {
             return *self * *self;
         }
-        let p0 = x0 * x0;
-        let ww = w * w;
-        let h = 0.5 * ww;
-        let c0 = p0 + h;
-        let tx0 = 2.0 * x0;
-        let mut r = p0.abs() + ww + c0.abs();
-        let mut xs = [0.0; N];
-        for (z, c) in xs.iter_mut().zip(&self.xs) {
-            *z = tx0 * c;
-            r += z.abs();
-        }
-        // h stands for ½W² in the radius; its own rounding (<= U ww/2 + ETA) is in r.
-        let main = h + tx0.abs() * self.acc;
-        let acc = up_abs(main + U * r, k_mul(N));
+        let (c0, xs, acc) = fp::cheb_sqr(x0, &self.xs, self.acc, w);
         if !acc.is_finite() {
             // Near the overflow threshold the rounding bookkeeping of the longer
             // formula can overflow first; x * x is the sound, never-wider answer.
@@ -487,32 +471,13 @@ impl<const N: usize> Range for Raa<N> {
 
     /// `x0 ∓ (Σ|xi| + acc)`, outward rounded (exact results stay exact).
     fn bounds(&self) -> (f64, f64) {
-        let mut rad = self.acc;
-        for c in &self.xs {
-            rad = add_dir_up(rad, c.abs());
-        }
-        let lo = add_dir_down(self.x0, -rad);
-        let hi = add_dir_up(self.x0, rad);
-        if lo.is_finite() && hi.is_finite() {
-            (lo, hi)
-        } else {
-            (f64::NEG_INFINITY, f64::INFINITY)
-        }
+        fp::bounds_dir(self.x0, fp::rad_dir(&self.xs, self.acc))
     }
 
-    /// `0 ∈ bounds()` without the bounds: with the same radius `rad` (rounded up), the
-    /// directed `x0 - rad` is above 0 exactly when `x0 > rad` (a positive difference of
-    /// two floats is at least the smallest subnormal), and alike for `x0 + rad < 0`.
-    /// Overflowing or NaN bounds hold 0, as `bounds()` makes them the whole line.
-    #[inline]
+    /// `0 ∈ bounds()` without the bounds ([`fp::holds_zero`]).
+    #[inline(always)]
     fn contains_zero(&self) -> bool {
-        let mut rad = self.acc;
-        for c in &self.xs {
-            rad = add_dir_up(rad, c.abs());
-        }
-        let x = self.x0.abs();
-        // The bound away from 0 is `±add_dir_up(|x0|, rad)` (rounding is symmetric).
-        !(x > rad && add_dir_up(x, rad).is_finite())
+        fp::holds_zero(self.x0, fp::rad_dir(&self.xs, self.acc))
     }
 
     /// `f0 = x0`, `f1 = xs[0]`, `e = Σ_{i>=1} |xi| + acc` rounded up.

@@ -80,22 +80,8 @@ impl<const N: usize> RevAa<N> {
     /// The Chebyshev square of [`Real::sqr`] for `w >= u + e` (its bound may overflow).
     #[inline(always)]
     fn cheb_sqr(&self, w: f64) -> Self {
-        let x0 = self.x0;
-        let p0 = x0 * x0;
-        let ww = w * w;
-        let h = 0.5 * ww;
-        let c0 = p0 + h;
-        let tx0 = 2.0 * x0;
-        let mut r = p0.abs() + ww + c0.abs();
-        let mut xs = [0.0; N];
-        for (z, c) in xs.iter_mut().zip(&self.xs) {
-            *z = tx0 * c;
-            r += z.abs();
-        }
-        // h stands for ½W² in the radius; its own rounding (<= U ww/2 + ETA) is in r.
-        let main = h + tx0.abs() * self.e;
-        let e = up_abs(main + U * r, k_mul(N));
-        RevAa { x0: c0, xs, e }
+        let (x0, xs, e) = fp::cheb_sqr(self.x0, &self.xs, self.e, w);
+        RevAa { x0, xs, e }
     }
 
     /// The unary affine operation of Section 3.4 with the shared approximation `a`:
@@ -379,12 +365,9 @@ impl<const N: usize> Real for RevAa<N> {
     fn sqr(&self) -> Self {
         let x0 = self.x0;
         // W: an upper bound of u + ex (exact sums stay exact, so N = 1, ex = 0 gives |x1|).
-        let mut w = self.e;
-        let mut s2 = 0.0; // Σ xi²: x * x's quadratic part is [S - W², W²]
-        for c in &self.xs {
-            w = add_dir_up(w, c.abs());
-            s2 += c * c;
-        }
+        let w = fp::rad_dir(&self.xs, self.e);
+        // Σ xi²: x * x's quadratic part is [S - W², W²].
+        let s2 = self.xs.iter().fold(0.0, |s, c| s + c * c);
         // The gain over x * x in width is G = W² - S. Where it is below what the
         // rounding bookkeeping can blur (a few hundred ulps of (|x0| + W)², see
         // `fp::sqr_margin`), x * x itself is the answer: then sqr is never wider than
@@ -540,32 +523,13 @@ impl<const N: usize> Range for RevAa<N> {
 
     /// `x0 ∓ (Σ|xi| + e)`, outward rounded (exact results stay exact).
     fn bounds(&self) -> (f64, f64) {
-        let mut rad = self.e;
-        for c in &self.xs {
-            rad = add_dir_up(rad, c.abs());
-        }
-        let lo = add_dir_down(self.x0, -rad);
-        let hi = add_dir_up(self.x0, rad);
-        if lo.is_finite() && hi.is_finite() {
-            (lo, hi)
-        } else {
-            (f64::NEG_INFINITY, f64::INFINITY)
-        }
+        fp::bounds_dir(self.x0, fp::rad_dir(&self.xs, self.e))
     }
 
-    /// `0 ∈ bounds()` without the bounds: with the same radius `rad` (rounded up), the
-    /// directed `x0 - rad` is above 0 exactly when `x0 > rad` (a positive difference of
-    /// two floats is at least the smallest subnormal), and alike for `x0 + rad < 0`.
-    /// Overflowing or NaN bounds hold 0, as `bounds()` makes them the whole line.
+    /// `0 ∈ bounds()` without the bounds ([`fp::holds_zero`]).
     #[inline(always)]
     fn contains_zero(&self) -> bool {
-        let mut rad = self.e;
-        for c in &self.xs {
-            rad = add_dir_up(rad, c.abs());
-        }
-        let x = self.x0.abs();
-        // The bound away from 0 is `±add_dir_up(|x0|, rad)` (rounding is symmetric).
-        !(x > rad && add_dir_up(x, rad).is_finite())
+        fp::holds_zero(self.x0, fp::rad_dir(&self.xs, self.e))
     }
 
     /// `f0 = x0`, `f1 = xs[0]`, `e = Σ_{i>=1} |xi| + e` rounded up.
