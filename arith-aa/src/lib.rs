@@ -748,6 +748,29 @@ impl Range for Aa {
         }
         Some(Linear { f0: self.x0, f1, e })
     }
+    /// Symbols `1..=eps.len()` summed into `f0` with their exact product and sum errors
+    /// in `e`, the other terms' magnitudes too.
+    fn linear_part_at(&self, eps: &[f64]) -> Option<Linear> {
+        if self.is_entire() {
+            return None;
+        }
+        let fixed = (eps.len() + 1).min(INPUTS) as u64;
+        let (mut f0, mut f1, mut e) = (self.x0, 0.0, 0.0);
+        for &(sym, c) in &self.terms {
+            if sym == 0 {
+                f1 = c;
+            } else if sym < fixed {
+                let (p, pe) = prod(c, eps[sym as usize - 1]);
+                let (s, se) = two_sum(f0, p);
+                f0 = s;
+                acc_err(&mut e, pe);
+                acc_err(&mut e, se);
+            } else {
+                acc_err(&mut e, c);
+            }
+        }
+        (f0.is_finite() && f1.is_finite() && e.is_finite()).then_some(Linear { f0, f1, e })
+    }
     fn bounds_at_inputs(&self, eps: &[f64]) -> (f64, f64) {
         if self.is_entire() {
             return (f64::NEG_INFINITY, f64::INFINITY);

@@ -118,6 +118,23 @@ pub trait Range: Real {
     /// A value only known to lie in `[lo, hi]`, independent of every other value
     /// (affine forms give it a fresh symbol or error term).
     fn from_interval(lo: f64, hi: f64) -> Self;
+    /// `c0 + Σ cs[i] eps_i ± err`: an affine function of the inputs `0..cs.len()`, each
+    /// `eps_i ∈ [-1, 1]` standing for input `i` as [`Range::input`] over `[-1, 1]` makes
+    /// it, plus an independent error of at most `err` (`err >= 0`). The numbers are taken
+    /// as exact; a non-finite one gives an unbounded range. Lets a caller build inputs
+    /// that are correlated through shared symbols (a frustum's points as functions of
+    /// depth and two pixel coordinates) without paying for the operations that would
+    /// compute them; the default does exactly that, with the operations.
+    fn from_affine(c0: f64, cs: &[f64], err: f64) -> Self {
+        if !(c0.is_finite() && err.is_finite() && cs.iter().all(|c| c.is_finite())) {
+            return Self::from_interval(f64::NEG_INFINITY, f64::INFINITY);
+        }
+        let mut r = Self::from_interval(-err.abs(), err.abs()) + c0;
+        for (i, &c) in cs.iter().enumerate() {
+            r = r + Self::input(i, -1.0, 1.0) * c;
+        }
+        r
+    }
     /// The enclosure `[lo, hi]`; never NaN; `-inf`/`+inf` when unbounded.
     fn bounds(&self) -> (f64, f64);
     /// Whether `0 ∈ bounds()`.
@@ -129,6 +146,14 @@ pub trait Range: Real {
     /// The linear part on the first input symbol, for argument pruning. `None` for
     /// arithmetics without one (intervals) or for unbounded forms.
     fn linear_part(&self) -> Option<Linear> {
+        None
+    }
+    /// [`Range::linear_part`] with the inputs `1..=eps.len()` fixed at `eps[i - 1] ∈
+    /// [-1, 1]` (as in [`Range::bounds_at_inputs`]): the range along input 0 of the slice
+    /// through those values, e.g. one ray's share of a bundle's form. `None` where
+    /// [`Range::linear_part`] is, and by default (arithmetics without symbols).
+    fn linear_part_at(&self, eps: &[f64]) -> Option<Linear> {
+        let _ = eps;
         None
     }
     /// The enclosure after fixing the input symbols at `eps[i] ∈ [-1, 1]` (input `i`

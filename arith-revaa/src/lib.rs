@@ -521,6 +521,23 @@ impl<const N: usize> Range for RevAa<N> {
         Self::input(usize::MAX, lo, hi)
     }
 
+    /// The coefficients as they are; those past `N` symbols join the error term.
+    fn from_affine(c0: f64, cs: &[f64], err: f64) -> Self {
+        if !(c0.is_finite() && err.is_finite() && cs.iter().all(|c| c.is_finite())) {
+            return Self::UNBOUNDED;
+        }
+        let mut xs = [0.0; N];
+        let mut e = err.abs();
+        for (i, &c) in cs.iter().enumerate() {
+            if i < N {
+                xs[i] = c;
+            } else {
+                e = add_dir_up(e, c.abs());
+            }
+        }
+        RevAa { x0: c0, xs, e }
+    }
+
     /// `x0 ∓ (Σ|xi| + e)`, outward rounded (exact results stay exact).
     fn bounds(&self) -> (f64, f64) {
         fp::bounds_dir(self.x0, fp::rad_dir(&self.xs, self.e))
@@ -544,6 +561,10 @@ impl<const N: usize> Range for RevAa<N> {
         } else {
             None
         }
+    }
+
+    fn linear_part_at(&self, eps: &[f64]) -> Option<Linear> {
+        fp::linear_at(self.x0, &self.xs, self.e, eps)
     }
 
     /// `x0 + Σ xs[i] eps[i] ± e`, outward rounded; symbols without an `eps` stay free.

@@ -2,8 +2,8 @@
 //!
 //! On a segment `[t0, t1]` of the ray `o + t d` the function's range is computed in the
 //! arithmetic's ray form (one input, `t`); no zero in it: no root there. Otherwise the
-//! segment is pruned with the linear part of the affine form (Section 4.1.2, done with
-//! outward rounding), and, unless it is already shorter than the precision, split in two,
+//! segment is pruned with the linear part of the affine form (Section 4.1.2, widened by a
+//! margin above its rounding), and, unless it is already shorter than the precision, split in two,
 //! the first half searched first. A segment shorter than the precision whose range still
 //! holds 0 is reported as the root (its midpoint), so a ray whose segment holds a root
 //! always reports a hit: tangent (double) roots and features thinner than the precision
@@ -17,11 +17,14 @@
 //! a closed surface and says nothing until halved many times) but marches: first the
 //! slice its cell could not prove empty, then pieces [`MARCH_GROWTH`] times as long as the
 //! last segment proved empty (so the pieces follow the length on which the function's
-//! ranges are tight: -25% evaluations on hair and the microstructure).
+//! ranges are tight: -25% evaluations on hair and the microstructure). When the cell's
+//! form has already placed the ray's roots in a piece within the precision (see
+//! [`crate::cull`]), a sign change at its ends resolves the ray without any range
+//! evaluation: nothing before the piece holds a root, so the first root lies in it.
 
 use crate::shape::{Aabb, Shape};
-use arith_core::round::{down, up, ETA};
-use arith_core::{Arithmetic, Range};
+use arith_core::round::ETA;
+use arith_core::{Arithmetic, Linear, Range};
 use glam::DVec3;
 
 /// When to stop subdividing: a segment `[t0, t1]` is resolved once
@@ -77,6 +80,8 @@ impl std::ops::AddAssign for RayStats {
 pub fn clip(o: DVec3, d: DVec3, domain: &Aabb, tmin: f64) -> Option<(f64, f64)> {
     let mut t0 = f64::NEG_INFINITY;
     let mut t1 = f64::INFINITY;
+    // One division per axis: `(lo - o) * (1/d)` is off by at most ~3 ulps, as covered.
+    let inv = d.recip();
     for k in 0..3 {
         let (ok, dk, lo, hi) = (o[k], d[k], domain.min[k], domain.max[k]);
         if dk == 0.0 {
@@ -85,8 +90,11 @@ pub fn clip(o: DVec3, d: DVec3, domain: &Aabb, tmin: f64) -> Option<(f64, f64)> 
             }
             continue;
         }
-        let a = (lo - ok) / dk;
-        let b = (hi - ok) / dk;
+        let (a, b) = if inv[k].is_finite() {
+            ((lo - ok) * inv[k], (hi - ok) * inv[k])
+        } else {
+            ((lo - ok) / dk, (hi - ok) / dk)
+        };
         let (a, b) = if a <= b { (a, b) } else { (b, a) };
         t0 = t0.max(a);
         t1 = t1.min(b);
@@ -94,7 +102,8 @@ pub fn clip(o: DVec3, d: DVec3, domain: &Aabb, tmin: f64) -> Option<(f64, f64)> 
     if !(t0.is_finite() && t1.is_finite()) {
         return None;
     }
-    // Each quotient is off by at most a couple of ulps; widen by more than that.
+    // Each quotient is off by at most a few ulps (and by an ETA or two when tiny, or
+    // when `1/d` is subnormal); widen by more than that.
     let m = (t0.abs() + t1.abs()) * 8.0 * f64::EPSILON + ETA;
     let (t0, t1) = ((t0 - m).max(tmin), t1 + m);
     if t0 <= t1 {
@@ -123,37 +132,46 @@ pub fn range_on_segment<R: Range, S: Shape + ?Sized>(
 /// Sound argument pruning (Section 4.1.2). With `t = m + r eps` (`m`, `r` the midpoint
 /// and radius of `[t0, t1]`) and `f in f0 + f1 eps ± e`, a root needs
 /// `|f0 + f1 eps| <= e`, i.e. `eps` between `(-e - f0)/f1` and `(e - f0)/f1`: the paper's
-/// `t' = t0 - t1 f0/f1 ± e t1/f1`. Every step is rounded outward and the result widened by
-/// a margin covering how the arithmetic itself rounded `m` and `r` (its `input` puts that
-/// error into `e`, a few ulps of `|m| + r`), so no root is ever pruned away. Returns the
-/// pruned segment, `Some(None)` when it is empty (no root), `None` when pruning does not
-/// apply (no linear part, `f1` zero, non-finite values).
+/// `t' = t0 - t1 f0/f1 ± e t1/f1`. The result is widened by a margin far above both the
+/// rounding of these few operations and how the arithmetic itself rounded `m` and `r`
+/// (its `input` puts that error into `e`, a few ulps of `|m| + r`), so no root is ever
+/// pruned away. Returns the pruned segment, `Some(None)` when it is empty (no root),
+/// `None` when pruning does not apply (no linear part, `f1` zero, non-finite values).
 #[inline]
 pub fn prune<R: Range>(f: &R, t0: f64, t1: f64) -> Option<Option<(f64, f64)>> {
-    let lin = f.linear_part()?;
+    prune_linear(f.linear_part()?, t0, t1)
+}
+
+/// [`prune`] from the linear part (which [`Range::linear_part_at`] may have taken from a
+/// bundle's form for one of its rays).
+///
+/// Rounding, in units of `U = 2^-53`: each `eps` bound is two roundings off, at most
+/// `2.1 U` of itself. Where it matters, a bound `lo` at most 2 (when the exact `lo` is
+/// above 2 the root would lie past `m + 2r > t1`, and the computed `p0` does too, so the
+/// segment is empty either way), `r lo` is off by `4.2 U r` from that and by `U r lo`
+/// more, `m + r lo` by `U (|m| + 2r)` more: in all under `8 U (|m| + r)`, plus an `ETA`
+/// or two where results are subnormal, against a margin of `32 U (|m| + r) + 4 ETA`
+/// (half of it for the arithmetic's own `m`, `r`). Plain round-to-nearest operations
+/// instead of directed steps: prune sits on every ray's and cell's critical path.
+#[inline]
+pub fn prune_linear(lin: Linear, t0: f64, t1: f64) -> Option<Option<(f64, f64)>> {
     let (f0, f1, e) = (lin.f0, lin.f1, lin.e);
     if !(f1 != 0.0 && f0.is_finite() && f1.is_finite() && e.is_finite()) {
         return None;
     }
     let m = 0.5 * t0 + 0.5 * t1;
     let r = 0.5 * t1 - 0.5 * t0;
-    // eps bounds: (-e - f0)/f1 and (e - f0)/f1, each rounded outward.
-    let a_lo = down(-e - f0);
-    let b_hi = up(e - f0);
-    let (lo, hi) = if f1 > 0.0 {
-        (down(a_lo / f1), up(b_hi / f1))
-    } else {
-        (down(b_hi / f1), up(a_lo / f1))
-    };
+    let q0 = (-e - f0) / f1;
+    let q1 = (e - f0) / f1;
+    let (lo, hi) = if f1 > 0.0 { (q0, q1) } else { (q1, q0) };
     if !(lo.is_finite() && hi.is_finite()) {
         return None;
     }
     let lo = lo.max(-1.0);
     let hi = hi.min(1.0);
-    // t = m + r eps, outward rounded, plus the margin for the arithmetic's own rounding.
     let margin = (m.abs() + r) * (16.0 * f64::EPSILON) + 4.0 * ETA;
-    let p0 = down(m + down(r * lo)) - margin;
-    let p1 = up(m + up(r * hi)) + margin;
+    let p0 = (m + r * lo) - margin;
+    let p1 = (m + r * hi) + margin;
     if !(p0.is_finite() && p1.is_finite()) {
         return None;
     }
@@ -253,7 +271,29 @@ pub fn first_root_split<R: Range, S: Shape + ?Sized>(
     stats: &mut RayStats,
 ) -> Option<f64> {
     let mut stack = Vec::new();
-    first_root_scratch::<R, S>(shape, o, d, (t0, split, t1), params, stats, &mut stack)
+    let seg = Search {
+        t0,
+        split,
+        resume: split,
+        step: 0.0,
+        t1,
+    };
+    first_root_scratch::<R, S>(shape, o, d, seg, params, stats, &mut stack)
+}
+
+/// Where [`first_root_scratch`] searches a ray: `[t0, t1]`, `[t0, split]` first (any
+/// `split` is sound; one outside `(t0, t1)` is ignored). The caller may know more:
+/// `(split, resume)` proved root-free, then the search goes on at `resume` after
+/// `[t0, split]` (`resume == split` when it knows nothing), and a length on which the
+/// function's ranges are known to be tight: the march's first piece after `[t0, split]`
+/// is at least `step` long (`0`: none known).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Search {
+    pub t0: f64,
+    pub split: f64,
+    pub resume: f64,
+    pub step: f64,
+    pub t1: f64,
 }
 
 /// [`first_root_split`] with the subdivision stack lent by the caller (emptied first):
@@ -262,11 +302,18 @@ pub fn first_root_scratch<R: Range, S: Shape + ?Sized>(
     shape: &S,
     o: DVec3,
     d: DVec3,
-    (t0, split, t1): (f64, f64, f64),
+    seg: Search,
     params: &RayParams,
     stats: &mut RayStats,
     stack: &mut Vec<(f64, f64)>,
 ) -> Option<f64> {
+    let Search {
+        t0,
+        split,
+        resume,
+        step: first_step,
+        t1,
+    } = seg;
     if t0.partial_cmp(&t1).is_none_or(|o| o.is_gt()) {
         return None;
     }
@@ -276,9 +323,20 @@ pub fn first_root_scratch<R: Range, S: Shape + ?Sized>(
     // over the whole rest is loose).
     let (mut a, mut b) = (t0, t1);
     let mut rest = t1;
+    let mut first_step = first_step;
     if t0 < split && split < t1 {
         b = split;
-        rest = split;
+        rest = resume.clamp(split, t1);
+        // A first piece already within the precision (a cell's form pruned for this ray)
+        // with a sign change at its ends holds the first root: nothing before `t0`.
+        if split - t0 <= params.precision.at(t0) {
+            stats.point_evals += 2;
+            let fa: f64 = point_on_ray(shape, o, d, t0);
+            let fb: f64 = point_on_ray(shape, o, d, split);
+            if opposite(fa, fb) {
+                return Some(0.5 * t0 + 0.5 * split);
+            }
+        }
     }
     loop {
         stats.range_evals += 1;
@@ -354,7 +412,10 @@ pub fn first_root_scratch<R: Range, S: Shape + ?Sized>(
             // tight enough on pieces about that long), and never shorter than the
             // precision (a proved segment can be a single point, pruned to one, and a
             // zero step would never end).
-            let step = ((b - a) * MARCH_GROWTH).max(params.precision.at(rest));
+            let step = ((b - a) * MARCH_GROWTH)
+                .max(params.precision.at(rest))
+                .max(first_step);
+            first_step = 0.0;
             a = rest;
             b = next_piece(rest, t1, step);
             rest = b;

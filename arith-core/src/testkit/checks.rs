@@ -536,3 +536,129 @@ pub fn check_linear_part<R: Range>(default_cases: u32) {
     let checked = stats.checked.load(Relaxed);
     eprintln!("{name}: {checked} points checked against a linear part");
 }
+
+/// LINEAR PART AT FIXED INPUTS (a bundle's form restricted to one ray): when
+/// [`Range::linear_part_at`] with inputs 1 and 2 fixed at `eps1`, `eps2` gives
+/// `f0 + f1*eps0 ± e`, the exact value at the point `x_i = mid_i + rad_i*eps_i` (all three
+/// inputs) lies in `[f0 + f1*eps0 - e, f0 + f1*eps0 + e]` (multi-precision). Inputs
+/// without their own symbol stay free (the arithmetic folded them into `e`). Forms
+/// returning `None` are skipped.
+pub fn check_linear_part_at<R: Range>(default_cases: u32) {
+    let ranges = prop_oneof![3 => range_tree_exact(), 1 => range_tree()];
+    let s = (
+        expr_strategy(6, 3),
+        vec![ranges.clone(), ranges.clone(), ranges],
+        vec![vec![eps_value(); 3]; 3],
+    );
+    let name = format!("{}: linear part at fixed inputs", R::NAME);
+    let stats = Stats::default();
+    run(&name, default_cases, s, |(expr, ranges, draws)| {
+        let inputs: Vec<R> = inputs_of(&ranges);
+        let v = expr.eval(&inputs);
+        for eps in &draws {
+            let Some(lin) = v.linear_part_at(&eps[1..]) else {
+                continue;
+            };
+            prop_assert!(
+                !lin.f0.is_nan() && !lin.f1.is_nan() && lin.e >= 0.0,
+                "linear part {lin:?} has NaN or negative e"
+            );
+            let point = |p: usize| -> Option<Vec<Mp>> {
+                let half = Mp::point_p(0.5, p)?;
+                ranges
+                    .iter()
+                    .zip(eps)
+                    .map(|(&(a, b), &t)| {
+                        let (a, b, t) =
+                            (Mp::point_p(a, p)?, Mp::point_p(b, p)?, Mp::point_p(t, p)?);
+                        a.add(&b)?.mul(&half)?.add(&b.sub(&a)?.mul(&half)?.mul(&t)?)
+                    })
+                    .collect()
+            };
+            let Some(r) = point(PREC).and_then(|xs| expr.reference(&xs)) else {
+                continue;
+            };
+            let centre = Mp::point(lin.f0)
+                .and_then(|f0| f0.add(&Mp::point(lin.f1)?.mul(&Mp::point(eps[0])?)?));
+            let Some(d) = centre.and_then(|c| r.sub(&c)) else {
+                continue;
+            };
+            match d.verdict(-lin.e, lin.e) {
+                Verdict::Outside => {
+                    return Err(TestCaseError::fail(format!(
+                        "UNSOUND linear part at inputs: {expr}\n  {lin:?} at eps {eps:?}\n  value - (f0 + f1*eps0) in {}\n  ranges {ranges:?}",
+                        d.describe()
+                    )))
+                }
+                verdict => record(&stats, -lin.e, lin.e, verdict == Verdict::Inside),
+            }
+        }
+        Ok(())
+    });
+    let checked = stats.checked.load(Relaxed);
+    eprintln!("{name}: {checked} points checked against a linear part");
+}
+
+/// AFFINE INPUTS: three inputs built by [`Range::from_affine`] on shared symbols (so
+/// correlated), an expression over them, and points given by symbol values `eps` and
+/// error fractions `d`: `x_k = c0_k + Σ_i c_ki eps_i + err_k d_k`. The exact value must
+/// lie in [`Range::bounds_at_inputs`]`(eps)` and in [`Range::bounds`] (multi-precision).
+pub fn check_from_affine<R: Range>(default_cases: u32) {
+    let coef = prop_oneof![3 => moderate(), 1 => Just(0.0)];
+    let err = prop_oneof![Just(0.0), moderate().prop_map(f64::abs)];
+    let form = (moderate(), vec![coef; 3], err);
+    let draw = (vec![eps_value(); 3], vec![eps_value(); 3]);
+    let s = (expr_strategy(6, 3), vec![form; 3], vec![draw; 3]);
+    let name = format!("{}: affine inputs", R::NAME);
+    let stats = Stats::default();
+    run(&name, default_cases, s, |(expr, forms, draws)| {
+        let inputs: Vec<R> = forms
+            .iter()
+            .map(|(c0, cs, err)| R::from_affine(*c0, cs, *err))
+            .collect();
+        for (x, (c0, cs, err)) in inputs.iter().zip(&forms) {
+            let (lo, hi) = x.bounds();
+            let r = cs.iter().map(|c| c.abs()).sum::<f64>() + err;
+            prop_assert!(
+                lo <= c0 - r * (1.0 - 1e-12) && c0 + r * (1.0 - 1e-12) <= hi,
+                "from_affine({c0}, {cs:?}, {err}) has bounds [{lo}, {hi}]"
+            );
+        }
+        let v = expr.eval(&inputs);
+        check_bounds_shape(&v)?;
+        let (glo, ghi) = v.bounds();
+        for (eps, ds) in &draws {
+            let (lo, hi) = v.bounds_at_inputs(eps);
+            prop_assert!(
+                !lo.is_nan() && !hi.is_nan() && lo <= hi,
+                "bounds_at_inputs({eps:?}) = [{lo}, {hi}]"
+            );
+            let point = |p: usize| -> Option<Vec<Mp>> {
+                forms
+                    .iter()
+                    .zip(ds)
+                    .map(|((c0, cs, err), &d)| {
+                        let mut x = Mp::point_p(*c0, p)?;
+                        for (c, &t) in cs.iter().zip(eps) {
+                            x = x.add(&Mp::point_p(*c, p)?.mul(&Mp::point_p(t, p)?)?)?;
+                        }
+                        x.add(&Mp::point_p(*err, p)?.mul(&Mp::point_p(d, p)?)?)
+                    })
+                    .collect()
+            };
+            for (what, l, h) in [("bounds_at_inputs", lo, hi), ("bounds", glo, ghi)] {
+                match check_point_mp(&expr, &point, l, h) {
+                    Err(m) => {
+                        return Err(TestCaseError::fail(format!(
+                            "{what}: {m}\n  eps {eps:?}, error fractions {ds:?}\n  forms {forms:?}"
+                        )))
+                    }
+                    Ok(Some(inside)) if what == "bounds_at_inputs" => record(&stats, l, h, inside),
+                    _ => {}
+                }
+            }
+        }
+        Ok(())
+    });
+    stats.assert_informative(&name, 0.1);
+}

@@ -185,6 +185,10 @@ macro_rules! range_test_suite {
             fn sqr_not_wider_than_mul() {
                 __c::check_sqr_not_wider::<$t>(__c::CASES_OP)
             }
+            #[test]
+            fn affine_inputs() {
+                __c::check_from_affine::<$t>(__c::CASES_TREE)
+            }
 
             $crate::__range_test_suite_affine!($t, $affine);
         }
@@ -207,6 +211,10 @@ macro_rules! __range_test_suite_affine {
         #[test]
         fn linear_part() {
             __c::check_linear_part::<$t>(__c::CASES_TREE)
+        }
+        #[test]
+        fn linear_part_at_inputs() {
+            __c::check_linear_part_at::<$t>(__c::CASES_TREE)
         }
     };
     ($t:ty, false) => {};
