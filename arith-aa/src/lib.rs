@@ -35,7 +35,7 @@
 
 use arith_core::approx::{self, Approx};
 use arith_core::round::{err, two_sum};
-use arith_core::{Arithmetic, Linear, Range, Real};
+use arith_core::{AffinePart, Arithmetic, Linear, Range, Real};
 use core::cell::Cell;
 use core::ops::{Add, Div, Mul, Neg, Sub};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -748,28 +748,24 @@ impl Range for Aa {
         }
         Some(Linear { f0: self.x0, f1, e })
     }
-    /// Symbols `1..=eps.len()` summed into `f0` with their exact product and sum errors
-    /// in `e`, the other terms' magnitudes too.
-    fn linear_part_at(&self, eps: &[f64]) -> Option<Linear> {
+    /// The input symbols `0..K` as they are, every other term's magnitude in `e`.
+    fn affine_part<const K: usize>(&self) -> Option<AffinePart<K>> {
         if self.is_entire() {
             return None;
         }
-        let fixed = (eps.len() + 1).min(INPUTS) as u64;
-        let (mut f0, mut f1, mut e) = (self.x0, 0.0, 0.0);
+        let mut xs = [0.0; K];
+        let mut e = 0.0;
         for &(sym, c) in &self.terms {
-            if sym == 0 {
-                f1 = c;
-            } else if sym < fixed {
-                let (p, pe) = prod(c, eps[sym as usize - 1]);
-                let (s, se) = two_sum(f0, p);
-                f0 = s;
-                acc_err(&mut e, pe);
-                acc_err(&mut e, se);
-            } else {
-                acc_err(&mut e, c);
+            match xs.get_mut(sym as usize) {
+                Some(x) if (sym as usize) < INPUTS => *x = c,
+                _ => acc_err(&mut e, c),
             }
         }
-        (f0.is_finite() && f1.is_finite() && e.is_finite()).then_some(Linear { f0, f1, e })
+        (e.is_finite() && xs.iter().all(|c| c.is_finite())).then_some(AffinePart {
+            x0: self.x0,
+            xs,
+            e,
+        })
     }
     fn bounds_at_inputs(&self, eps: &[f64]) -> (f64, f64) {
         if self.is_entire() {

@@ -99,28 +99,15 @@ pub fn rad_dir(xs: &[f64], e: f64) -> f64 {
     xs.iter().fold(e, |r, c| add_dir_up(r, c.abs()))
 }
 
-/// The linear part on symbol 0 of `x0 + Σ xs[i] εi ± e` with the symbols `1..=eps.len()`
-/// fixed at `eps`: `f0 = x0 + Σ xs[i] eps[i - 1]` computed in round to nearest, its
-/// rounding error and the free symbols' `|xs[i]|` in `e` (rounded up). `None` when a
+/// [`crate::Range::affine_part`] of `x0 + Σ xs[i] εi ± e`: the first `K` coefficients as
+/// they are (0 past `xs`), the others' magnitudes added to `e` rounded up. `None` when a
 /// value is not finite.
 #[inline]
-pub fn linear_at(x0: f64, xs: &[f64], e: f64, eps: &[f64]) -> Option<crate::Linear> {
-    let f1 = xs.first().copied().unwrap_or(0.0);
-    let mut f0 = x0;
-    let mut r = 0.0; // Σ |computed values| whose rounding errors we cover
-    let mut free = e;
-    for (i, c) in xs.iter().enumerate().skip(1) {
-        match eps.get(i - 1) {
-            Some(&t) => {
-                let p = c * t;
-                f0 += p;
-                r += p.abs() + f0.abs();
-            }
-            None => free += c.abs(),
-        }
-    }
-    let e = up_abs(free + U * r, k_lin(xs.len()));
-    (f0.is_finite() && f1.is_finite() && e.is_finite()).then_some(crate::Linear { f0, f1, e })
+pub fn affine_at<const K: usize>(x0: f64, xs: &[f64], e: f64) -> Option<crate::AffinePart<K>> {
+    let cs: [f64; K] = core::array::from_fn(|i| xs.get(i).copied().unwrap_or(0.0));
+    let e = xs.iter().skip(K).fold(e, |r, c| add_dir_up(r, c.abs()));
+    (x0.is_finite() && e.is_finite() && cs.iter().all(|c| c.is_finite()))
+        .then_some(crate::AffinePart { x0, xs: cs, e })
 }
 
 /// The directed bounds `x0 ∓ rad` of a form with radius `rad` (from [`rad_dir`]), the

@@ -60,4 +60,4 @@ pub mod round;
 pub mod testkit;
 
 mod real;
-pub use real::{Arithmetic, Linear, Range, Real};
+pub use real::{AffinePart, Arithmetic, Linear, Range, Real};

@@ -86,6 +86,14 @@ pub struct Linear {
     pub e: f64,
 }
 
+/// `x0 + Σ xs[i] eps_i ± e` over the first `K` inputs: see [`Range::affine_part`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AffinePart<const K: usize> {
+    pub x0: f64,
+    pub xs: [f64; K],
+    pub e: f64,
+}
+
 /// A sound enclosure: a [`Real`] whose every value encloses the real function's values.
 ///
 /// # Contract
@@ -148,12 +156,14 @@ pub trait Range: Real {
     fn linear_part(&self) -> Option<Linear> {
         None
     }
-    /// [`Range::linear_part`] with the inputs `1..=eps.len()` fixed at `eps[i - 1] ∈
-    /// [-1, 1]` (as in [`Range::bounds_at_inputs`]): the range along input 0 of the slice
-    /// through those values, e.g. one ray's share of a bundle's form. `None` where
-    /// [`Range::linear_part`] is, and by default (arithmetics without symbols).
-    fn linear_part_at(&self, eps: &[f64]) -> Option<Linear> {
-        let _ = eps;
+    /// The form's centre and coefficients on the inputs `0..K`, every other term (other
+    /// symbols, the error part) bounded in `e`: the value lies in
+    /// `x0 + Σ xs[i] eps_i ± e` for the inputs' `eps_i` (as in
+    /// [`Range::bounds_at_inputs`]). A coefficient on an input without its own symbol is
+    /// 0 (that input is in `e`). What a bundle's form says about one ray, or one child:
+    /// fixing some inputs is then the caller's arithmetic. `None` for arithmetics without
+    /// symbols (the default) and for unbounded forms.
+    fn affine_part<const K: usize>(&self) -> Option<AffinePart<K>> {
         None
     }
     /// The enclosure after fixing the input symbols at `eps[i] ∈ [-1, 1]` (input `i`

@@ -30,7 +30,7 @@ use arith_core::affine_round as fp;
 
 use arith_core::approx::{self, Approx};
 use arith_core::round::U;
-use arith_core::{Arithmetic, Linear, Range, Real};
+use arith_core::{AffinePart, Arithmetic, Linear, Range, Real};
 use core::ops::{Add, Div, Mul, Neg, Sub};
 use fp::{add_dir_down, add_dir_up, k_lin, k_mul, mid_rad, up_abs, up_rel};
 
@@ -511,8 +511,8 @@ impl<const N: usize> Range for Raa<N> {
         }
     }
 
-    fn linear_part_at(&self, eps: &[f64]) -> Option<Linear> {
-        fp::linear_at(self.x0, &self.xs, self.acc, eps)
+    fn affine_part<const K: usize>(&self) -> Option<AffinePart<K>> {
+        fp::affine_at(self.x0, &self.xs, self.acc)
     }
 
     /// `x0 + Σ xs[i] eps[i] ± acc`, outward rounded; symbols without an `eps` stay free.

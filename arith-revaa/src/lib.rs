@@ -22,7 +22,7 @@ use arith_core::affine_round as fp;
 
 use arith_core::approx::{self, Approx};
 use arith_core::round::U;
-use arith_core::{Arithmetic, Linear, Range, Real};
+use arith_core::{AffinePart, Arithmetic, Linear, Range, Real};
 use core::ops::{Add, Div, Mul, Neg, Sub};
 use fp::{add_dir_down, add_dir_up, k_lin, k_mul, mid_rad, up_abs, up_rel};
 
@@ -563,8 +563,8 @@ impl<const N: usize> Range for RevAa<N> {
         }
     }
 
-    fn linear_part_at(&self, eps: &[f64]) -> Option<Linear> {
-        fp::linear_at(self.x0, &self.xs, self.e, eps)
+    fn affine_part<const K: usize>(&self) -> Option<AffinePart<K>> {
+        fp::affine_at(self.x0, &self.xs, self.e)
     }
 
     /// `x0 + Σ xs[i] eps[i] ± e`, outward rounded; symbols without an `eps` stay free.

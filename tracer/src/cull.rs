@@ -42,8 +42,9 @@
 //! the precision and shows a sign change.
 
 use crate::camera::Camera;
+use crate::ray::Pruner;
 use crate::shape::{Aabb, Shape};
-use arith_core::round::{up_finite, U};
+use arith_core::round::{up_finite, ETA, U};
 use arith_core::{Arithmetic, Range};
 use glam::DVec3;
 
@@ -109,18 +110,46 @@ struct Bundle {
     ihy: f64,
 }
 
-/// The depths of a slice that its test could not prove root-free, and the frustum form
-/// it computed (`None` for a box test).
-type Kept<R> = ((f64, f64), Option<Fit<R>>);
+/// The depths of a slice that its test could not prove root-free, and what its frustum
+/// form says about the bundle's rays (`None` for a box test, or without an affine part).
+type Kept = ((f64, f64), Option<Fit>);
 
-/// A bundle's range over a slice of depth `s` in its frustum form (see
-/// [`Culler::frustum`]): input 0 is the depth, inputs 1 and 2 the pixel coordinates.
-#[derive(Clone, Debug)]
-struct Fit<R> {
-    f: R,
+/// A bundle's range over the slice of depths `s` in its frustum form (see
+/// [`Culler::frustum`]), as `c0 + cs eps0 + cu u + cv v ± e` (eps0 the depth symbol, `u`,
+/// `v` the pixel coordinates): see [`Culler::fit_start`].
+#[derive(Clone, Copy, Debug)]
+struct Fit {
     s: (f64, f64),
-    /// Covers the rounding of a pixel's coordinates `u`, `v` (see [`Culler::fit_start`]).
-    slack: f64,
+    /// Pruning of the slice `s` along the depth symbol (slope `cs`).
+    pruner: Pruner,
+    c0: f64,
+    cu: f64,
+    cv: f64,
+    /// `e` plus the rounding of `c0 + cu u + cv v` for computed `u`, `v` in `[-1, 1]`.
+    e: f64,
+}
+
+impl Fit {
+    fn new<R: Range>(f: &R, s: (f64, f64)) -> Option<Fit> {
+        let a = f.affine_part::<3>()?;
+        let [cs, cu, cv] = a.xs;
+        // `g = c0 + cu u + cv v` in three roundings: off by <= 4U (|c0| + |cu| + |cv|) +
+        // 2 ETA; `u`, `v` themselves (two roundings each, |u|, |v| <= 1) move it by
+        // <= 2.01U (|cu| + |cv|) more.
+        let mag = a.x0.abs() + cu.abs() + cv.abs();
+        let e = up_finite(a.e + (8.0 * U * mag + 4.0 * ETA));
+        if !e.is_finite() {
+            return None;
+        }
+        Some(Fit {
+            s,
+            pruner: Pruner::new(s.0, s.1, cs)?,
+            c0: a.x0,
+            cu,
+            cv,
+            e,
+        })
+    }
 }
 
 /// Everything a traversal needs besides the shape.
@@ -276,7 +305,7 @@ impl Culler {
         bundle: &Bundle,
         s: (f64, f64),
         stats: &mut CullStats,
-    ) -> Option<Kept<R>> {
+    ) -> Option<Kept> {
         stats.cells_tested += 1;
         let (b, (t0, t1)) = self.box_of((bundle.dmin, bundle.dmax), s)?;
         if R::INPUTS >= 3 {
@@ -293,16 +322,7 @@ impl Culler {
             if kept.0 > kept.1 {
                 return None;
             }
-            let (lo, hi) = f.bounds();
-            let slack = 8.0 * U * (hi - lo);
-            return Some((
-                kept,
-                Some(Fit {
-                    f,
-                    s: (t0, t1),
-                    slack,
-                }),
-            ));
+            return Some((kept, Fit::new(&f, (t0, t1))));
         }
         let x = R::input(0, b.min.x, b.max.x);
         let y = R::input(1, b.min.y, b.max.y);
@@ -352,7 +372,7 @@ impl Culler {
         s: (f64, f64),
         start: Start,
         stats: &mut CullStats,
-    ) -> Option<Kept<R>> {
+    ) -> Option<Kept> {
         // A slice this thin (relative to the cell's width there) is not split further.
         let small = |a: f64, b: f64| b - a <= width * b.max(0.0) + self.margin;
         let mut stack = [(0.0f64, 0.0f64); NARROW_STACK];
@@ -423,7 +443,7 @@ impl Culler {
         (i0, j0, i1, j1): (u32, u32, u32, u32),
         s_range: (f64, f64),
         start: Start,
-        parent: Option<(&Bundle, &Fit<R>)>,
+        parent: Option<(&Bundle, &Fit)>,
         stats: &mut CullStats,
         trace: &mut F,
     ) {
@@ -504,37 +524,33 @@ impl Culler {
     /// Over a rectangle of pixels the form's constant part ranges between its values at
     /// the corners (it is affine in `u`, `v`), so pruning with that range covers every
     /// ray of the rectangle. `None` when the form says nothing.
-    fn fit_start<R: Range>(
+    fn fit_start(
         &self,
         b: &Bundle,
-        fit: &Fit<R>,
+        fit: &Fit,
         (i0, j0, i1, j1): (u32, u32, u32, u32),
         s_range: (f64, f64),
     ) -> Option<Start> {
         let u = |i: u32| (i as f64 + 0.5 - b.xc) * b.ihx;
         let v = |j: u32| (j as f64 + 0.5 - b.yc) * b.ihy;
-        let mut lin = fit.f.linear_part_at(&[u(i0), v(j0)])?;
-        if i1 - i0 > 1 || j1 - j0 > 1 {
-            let (mut lo, mut hi, mut e) = (lin.f0, lin.f0, lin.e);
-            for (i, j) in [(i1 - 1, j0), (i0, j1 - 1), (i1 - 1, j1 - 1)] {
-                let l = fit.f.linear_part_at(&[u(i), v(j)])?;
-                lo = lo.min(l.f0);
-                hi = hi.max(l.f0);
-                e = e.max(l.e);
-            }
-            // `[lo - e, hi + e]` within `f0 ± e'`, `f0` rounded (off by <= U |f0|).
+        let (f0, e) = if i1 - i0 == 1 && j1 - j0 == 1 {
+            (fit.c0 + fit.cu * u(i0) + fit.cv * v(j0), fit.e)
+        } else {
+            // Over the rectangle `g` is between its values at the corners, each within
+            // `fit.e` of the computed one; `[lo - e, hi + e]` is within `f0 ± e'`, `f0`
+            // rounded (off by <= U |f0|).
+            let (pu, qu) = (fit.cu * u(i0), fit.cu * u(i1 - 1));
+            let (pv, qv) = (fit.cv * v(j0), fit.cv * v(j1 - 1));
+            let lo = fit.c0 + pu.min(qu) + pv.min(qv);
+            let hi = fit.c0 + pu.max(qu) + pv.max(qv);
             let f0 = 0.5 * lo + 0.5 * hi;
             let half = up_finite(0.5 * hi - 0.5 * lo);
-            lin.f0 = f0;
-            lin.e = up_finite(up_finite(half + e) + 2.0 * U * f0.abs());
-        }
-        // `u`, `v` are rounded (relative error <= 2U, `1/hx` and the product): the form
-        // moves by at most 2U times its coefficients on them, each below its width.
-        lin.e = up_finite(lin.e + fit.slack);
+            (f0, up_finite(up_finite(half + fit.e) + 2.0 * U * f0.abs()))
+        };
         let (t0, t1) = fit.s;
         // The cell's form was tight on its slice: pieces that long.
         let step = (t1 - t0).max(b.width * t1);
-        let start = match crate::ray::prune_linear(lin, t0, t1)? {
+        let start = match fit.pruner.prune(f0, e)? {
             None => {
                 let s0 = t1.max(s_range.0);
                 let split = (s0 + step).min(s_range.1);

@@ -142,45 +142,86 @@ pub fn prune<R: Range>(f: &R, t0: f64, t1: f64) -> Option<Option<(f64, f64)>> {
     prune_linear(f.linear_part()?, t0, t1)
 }
 
-/// [`prune`] from the linear part (which [`Range::linear_part_at`] may have taken from a
-/// bundle's form for one of its rays).
-///
-/// Rounding, in units of `U = 2^-53`: each `eps` bound is two roundings off, at most
-/// `2.1 U` of itself. Where it matters, a bound `lo` at most 2 (when the exact `lo` is
-/// above 2 the root would lie past `m + 2r > t1`, and the computed `p0` does too, so the
-/// segment is empty either way), `r lo` is off by `4.2 U r` from that and by `U r lo`
-/// more, `m + r lo` by `U (|m| + 2r)` more: in all under `8 U (|m| + r)`, plus an `ETA`
-/// or two where results are subnormal, against a margin of `32 U (|m| + r) + 4 ETA`
-/// (half of it for the arithmetic's own `m`, `r`). Plain round-to-nearest operations
-/// instead of directed steps: prune sits on every ray's and cell's critical path.
+/// [`prune`] from the linear part (which may come from a bundle's
+/// [`Range::affine_part`] for one of its rays).
 #[inline]
 pub fn prune_linear(lin: Linear, t0: f64, t1: f64) -> Option<Option<(f64, f64)>> {
-    let (f0, f1, e) = (lin.f0, lin.f1, lin.e);
-    if !(f1 != 0.0 && f0.is_finite() && f1.is_finite() && e.is_finite()) {
-        return None;
+    Pruner::new(t0, t1, lin.f1)?.prune(lin.f0, lin.e)
+}
+
+/// Argument pruning of `[t0, t1]` along a linear part of slope `f1`, set up once for any
+/// number of constant parts `f0 ± e` (a bundle's rays share the slope of its form).
+///
+/// Rounding, in units of `U = 2^-53`: each `eps` bound is three roundings off (the sum,
+/// `1/f1`, the product), at most `3.1 U` of itself (`1/f1` is normal, checked). Where it
+/// matters, a bound `lo` at most 2 (when the exact `lo` is above 2 the root would lie
+/// past `m + 2r > t1`, and the computed `p0` does too, so the segment is empty either
+/// way; a bound below -1 is clamped to -1, which only widens), `r lo` is off by
+/// `6.2 U r` from that and by `2 U r` more, `m + r lo` by `U (|m| + 2r)` more, and the
+/// margin's subtraction by about as much again: in all under `13 U (|m| + r)`, plus an
+/// `ETA` or two where results are subnormal, against a margin of
+/// `32 U (|m| + r) + 4 ETA` (the rest of it for the arithmetic's own `m`, `r`, off by at
+/// most `U (|m| + r)`). Plain round-to-nearest operations instead of
+/// directed steps, and no division: pruning sits on every ray's and cell's critical path.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pruner {
+    t0: f64,
+    t1: f64,
+    m: f64,
+    r: f64,
+    margin: f64,
+    inv: f64,
+}
+
+impl Pruner {
+    /// `None` when pruning does not apply: `f1` zero, not finite, or with a subnormal
+    /// reciprocal (`|f1| > 2^1022`).
+    #[inline]
+    pub fn new(t0: f64, t1: f64, f1: f64) -> Option<Pruner> {
+        let inv = 1.0 / f1;
+        if !(f1.is_finite() && inv.is_normal()) {
+            return None;
+        }
+        let m = 0.5 * t0 + 0.5 * t1;
+        let r = 0.5 * t1 - 0.5 * t0;
+        let margin = (m.abs() + r) * (16.0 * f64::EPSILON) + 4.0 * ETA;
+        Some(Pruner {
+            t0,
+            t1,
+            m,
+            r,
+            margin,
+            inv,
+        })
     }
-    let m = 0.5 * t0 + 0.5 * t1;
-    let r = 0.5 * t1 - 0.5 * t0;
-    let q0 = (-e - f0) / f1;
-    let q1 = (e - f0) / f1;
-    let (lo, hi) = if f1 > 0.0 { (q0, q1) } else { (q1, q0) };
-    if !(lo.is_finite() && hi.is_finite()) {
-        return None;
-    }
-    let lo = lo.max(-1.0);
-    let hi = hi.min(1.0);
-    let margin = (m.abs() + r) * (16.0 * f64::EPSILON) + 4.0 * ETA;
-    let p0 = (m + r * lo) - margin;
-    let p1 = (m + r * hi) + margin;
-    if !(p0.is_finite() && p1.is_finite()) {
-        return None;
-    }
-    let n0 = t0.max(p0);
-    let n1 = t1.min(p1);
-    if n0 > n1 {
-        Some(None)
-    } else {
-        Some(Some((n0, n1)))
+
+    /// The pruned segment for the constant part `f0 ± e`, `Some(None)` when it is empty
+    /// (no root), `None` when pruning does not apply (non-finite values).
+    #[inline]
+    pub fn prune(&self, f0: f64, e: f64) -> Option<Option<(f64, f64)>> {
+        if !(f0.is_finite() && e.is_finite()) {
+            return None;
+        }
+        let q0 = (-e - f0) * self.inv;
+        let q1 = (e - f0) * self.inv;
+        let (lo, hi) = if self.inv > 0.0 { (q0, q1) } else { (q1, q0) };
+        if !(lo.is_finite() && hi.is_finite()) {
+            return None;
+        }
+        let lo = lo.max(-1.0);
+        let hi = hi.min(1.0);
+        let p0 = (self.m + self.r * lo) - self.margin;
+        let p1 = (self.m + self.r * hi) + self.margin;
+        if !(p0.is_finite() && p1.is_finite()) {
+            return None;
+        }
+        let n0 = self.t0.max(p0);
+        let n1 = self.t1.min(p1);
+        if n0 > n1 {
+            Some(None)
+        } else {
+            Some(Some((n0, n1)))
+        }
     }
 }
 
@@ -223,6 +264,10 @@ pub(crate) fn next_piece(rest: f64, end: f64, step: f64) -> f64 {
         rest + step
     }
 }
+
+/// How much longer than the precision a ray's first piece may be for its first
+/// precision's length to be tried by a sign change before any range evaluation.
+pub const SHORT_PIECES: f64 = 3.0;
 
 /// Depth of the explicit subdivision stack. Halving stops at the precision (whose floor
 /// is positive) or at floating-point resolution, long before this; should it ever fill,
@@ -328,13 +373,16 @@ pub fn first_root_scratch<R: Range, S: Shape + ?Sized>(
         b = split;
         rest = resume.clamp(split, t1);
         // A first piece already within the precision (a cell's form pruned for this ray)
-        // with a sign change at its ends holds the first root: nothing before `t0`.
-        if split - t0 <= params.precision.at(t0) {
+        // with a sign change at its ends holds the first root: nothing before `t0`. A
+        // piece up to SHORT_PIECES times longer: the same for its first precision's length.
+        let eps = params.precision.at(t0);
+        if split - t0 <= SHORT_PIECES * eps {
+            let c = (t0 + eps).min(split);
             stats.point_evals += 2;
             let fa: f64 = point_on_ray(shape, o, d, t0);
-            let fb: f64 = point_on_ray(shape, o, d, split);
-            if opposite(fa, fb) {
-                return Some(0.5 * t0 + 0.5 * split);
+            let fc: f64 = point_on_ray(shape, o, d, c);
+            if opposite(fa, fc) && c > t0 {
+                return Some(0.5 * t0 + 0.5 * c);
             }
         }
     }

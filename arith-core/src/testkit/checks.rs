@@ -537,66 +537,68 @@ pub fn check_linear_part<R: Range>(default_cases: u32) {
     eprintln!("{name}: {checked} points checked against a linear part");
 }
 
-/// LINEAR PART AT FIXED INPUTS (a bundle's form restricted to one ray): when
-/// [`Range::linear_part_at`] with inputs 1 and 2 fixed at `eps1`, `eps2` gives
-/// `f0 + f1*eps0 ± e`, the exact value at the point `x_i = mid_i + rad_i*eps_i` (all three
-/// inputs) lies in `[f0 + f1*eps0 - e, f0 + f1*eps0 + e]` (multi-precision). Inputs
-/// without their own symbol stay free (the arithmetic folded them into `e`). Forms
-/// returning `None` are skipped.
-pub fn check_linear_part_at<R: Range>(default_cases: u32) {
+/// AFFINE PART (a bundle's form restricted to one ray or one child cell): when
+/// [`Range::affine_part`] gives `x0 + Σ xs[i] eps_i ± e` on the three inputs, the exact
+/// value at the point `x_i = mid_i + rad_i*eps_i` lies in
+/// `[x0 + Σ xs[i] eps_i - e, x0 + Σ xs[i] eps_i + e]` (multi-precision). Forms returning
+/// `None` are skipped.
+pub fn check_affine_part<R: Range>(default_cases: u32) {
     let ranges = prop_oneof![3 => range_tree_exact(), 1 => range_tree()];
     let s = (
         expr_strategy(6, 3),
         vec![ranges.clone(), ranges.clone(), ranges],
         vec![vec![eps_value(); 3]; 3],
     );
-    let name = format!("{}: linear part at fixed inputs", R::NAME);
+    let name = format!("{}: affine part", R::NAME);
     let stats = Stats::default();
     run(&name, default_cases, s, |(expr, ranges, draws)| {
         let inputs: Vec<R> = inputs_of(&ranges);
         let v = expr.eval(&inputs);
+        let Some(a) = v.affine_part::<3>() else {
+            return Ok(());
+        };
+        prop_assert!(
+            !a.x0.is_nan() && a.xs.iter().all(|c| !c.is_nan()) && a.e >= 0.0,
+            "affine part {a:?} has NaN or negative e"
+        );
         for eps in &draws {
-            let Some(lin) = v.linear_part_at(&eps[1..]) else {
-                continue;
-            };
-            prop_assert!(
-                !lin.f0.is_nan() && !lin.f1.is_nan() && lin.e >= 0.0,
-                "linear part {lin:?} has NaN or negative e"
-            );
+            let half = |p| Mp::point_p(0.5, p);
             let point = |p: usize| -> Option<Vec<Mp>> {
-                let half = Mp::point_p(0.5, p)?;
                 ranges
                     .iter()
                     .zip(eps)
-                    .map(|(&(a, b), &t)| {
-                        let (a, b, t) =
-                            (Mp::point_p(a, p)?, Mp::point_p(b, p)?, Mp::point_p(t, p)?);
-                        a.add(&b)?.mul(&half)?.add(&b.sub(&a)?.mul(&half)?.mul(&t)?)
+                    .map(|(&(lo, hi), &t)| {
+                        let (lo, hi, t) =
+                            (Mp::point_p(lo, p)?, Mp::point_p(hi, p)?, Mp::point_p(t, p)?);
+                        let h = half(p)?;
+                        lo.add(&hi)?.mul(&h)?.add(&hi.sub(&lo)?.mul(&h)?.mul(&t)?)
                     })
                     .collect()
             };
             let Some(r) = point(PREC).and_then(|xs| expr.reference(&xs)) else {
                 continue;
             };
-            let centre = Mp::point(lin.f0)
-                .and_then(|f0| f0.add(&Mp::point(lin.f1)?.mul(&Mp::point(eps[0])?)?));
+            let mut centre = Mp::point(a.x0);
+            for (c, &t) in a.xs.iter().zip(eps) {
+                centre = centre.and_then(|m| m.add(&Mp::point(*c)?.mul(&Mp::point(t)?)?));
+            }
             let Some(d) = centre.and_then(|c| r.sub(&c)) else {
                 continue;
             };
-            match d.verdict(-lin.e, lin.e) {
+            match d.verdict(-a.e, a.e) {
                 Verdict::Outside => {
                     return Err(TestCaseError::fail(format!(
-                        "UNSOUND linear part at inputs: {expr}\n  {lin:?} at eps {eps:?}\n  value - (f0 + f1*eps0) in {}\n  ranges {ranges:?}",
+                        "UNSOUND affine part: {expr}\n  {a:?} at eps {eps:?}\n  value - (x0 + Σ xs eps) in {}\n  ranges {ranges:?}",
                         d.describe()
                     )))
                 }
-                verdict => record(&stats, -lin.e, lin.e, verdict == Verdict::Inside),
+                verdict => record(&stats, -a.e, a.e, verdict == Verdict::Inside),
             }
         }
         Ok(())
     });
     let checked = stats.checked.load(Relaxed);
-    eprintln!("{name}: {checked} points checked against a linear part");
+    eprintln!("{name}: {checked} points checked against an affine part");
 }
 
 /// AFFINE INPUTS: three inputs built by [`Range::from_affine`] on shared symbols (so

@@ -213,8 +213,8 @@ macro_rules! __range_test_suite_affine {
             __c::check_linear_part::<$t>(__c::CASES_TREE)
         }
         #[test]
-        fn linear_part_at_inputs() {
-            __c::check_linear_part_at::<$t>(__c::CASES_TREE)
+        fn affine_part() {
+            __c::check_affine_part::<$t>(__c::CASES_TREE)
         }
     };
     ($t:ty, false) => {};
