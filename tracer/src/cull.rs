@@ -335,10 +335,13 @@ impl Culler {
     /// coordinates `u = eps1`, `v = eps2` (`D` is affine in them: `D = Dc + U u + V v`).
     /// The product `s D` gives `eye + m Dc + r Dc eps0 + m U eps1 + m V eps2` plus the
     /// terms `r U eps0 eps1 + r V eps0 eps2`, bounded by `r (|U| + |V|)` in the error,
-    /// which also holds the rounding of every coefficient (and of `D` itself: rays use
-    /// the rounded, normalised directions) and the culling margin. Unlike the box, the
-    /// forms follow the frustum's slant, and pruning their depth symbol narrows the
-    /// depth range of the whole bundle at once.
+    /// which also holds the rounding of every coefficient and of `D`, and the culling
+    /// margin. A ray's rounded, normalised direction puts its points off the exact
+    /// frustum line by far less than that margin; along the line, its points sit at a
+    /// depth a few ulps of `|D|^2 s` from the one the forms give them, which every form
+    /// of every cell shares and the depths handed to rays absorb in their margins.
+    /// Unlike the box, the forms follow the frustum's slant, and pruning their depth
+    /// symbol narrows the depth range of the whole bundle at once.
     fn frustum<R: Range>(&self, bundle: &Bundle, s0: f64, s1: f64) -> [R; 3] {
         let (m, r, emr) = arith_core::affine_round::mid_rad(s0, s1);
         let (dc, u, v) = (bundle.dc, bundle.u, bundle.v);
@@ -524,6 +527,7 @@ impl Culler {
     /// Over a rectangle of pixels the form's constant part ranges between its values at
     /// the corners (it is affine in `u`, `v`), so pruning with that range covers every
     /// ray of the rectangle. `None` when the form says nothing.
+    #[inline(always)]
     fn fit_start(
         &self,
         b: &Bundle,
@@ -550,7 +554,8 @@ impl Culler {
         let (t0, t1) = fit.s;
         // The cell's form was tight on its slice: pieces that long.
         let step = (t1 - t0).max(b.width * t1);
-        let start = match fit.pruner.prune(f0, e)? {
+        // No root in the slice (or none left past the range's start).
+        let start = match fit.pruner.prune(f0, e)?.filter(|&(_, c)| c >= s_range.0) {
             None => {
                 let s0 = t1.max(s_range.0);
                 let split = (s0 + step).min(s_range.1);

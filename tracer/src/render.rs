@@ -70,7 +70,7 @@ impl RenderOptions {
             progress: false,
             deadline: None,
             cancel: None,
-            tile: 32,
+            tile: 64,
         }
     }
 
@@ -166,7 +166,6 @@ pub struct RenderResult {
 }
 
 struct TileOut {
-    rect: (u32, u32, u32, u32),
     rgb: Vec<u8>,
     depth: Vec<f32>,
     stats: RenderStats,
@@ -240,28 +239,36 @@ pub fn render<A: Arithmetic, S: Shape + ?Sized>(
     bar.finish_and_clear();
 
     let (w, h) = (opts.width as usize, opts.height as usize);
-    let mut rgb = Vec::with_capacity(w * h * 3);
-    for _ in 0..w * h {
-        rgb.extend_from_slice(&opts.background);
-    }
-    let mut depth = vec![f32::INFINITY; w * h];
+    // Every pixel is written below: by its tile, or as background where a tile was cut.
+    let mut rgb = vec![0u8; w * h * 3];
+    let mut depth = vec![0.0f32; w * h];
     let mut stats = RenderStats {
         tiles_total: tiles.len() as u64,
         ..Default::default()
     };
-    for out in outs {
+    for (&(i0, j0, i1, j1), out) in tiles.iter().zip(outs) {
+        let tw = (i1 - i0) as usize;
+        for j in j0..j1 {
+            let dst = j as usize * w + i0 as usize;
+            let (d, c) = (&mut depth[dst..dst + tw], &mut rgb[dst * 3..(dst + tw) * 3]);
+            match &out {
+                Some(out) => {
+                    let src = (j - j0) as usize * tw;
+                    d.copy_from_slice(&out.depth[src..src + tw]);
+                    c.copy_from_slice(&out.rgb[src * 3..(src + tw) * 3]);
+                }
+                None => {
+                    d.fill(f32::INFINITY);
+                    for px in c.chunks_exact_mut(3) {
+                        px.copy_from_slice(&opts.background);
+                    }
+                }
+            }
+        }
         let Some(out) = out else {
             stats.cut = true;
             continue;
         };
-        let (i0, j0, i1, j1) = out.rect;
-        let tw = (i1 - i0) as usize;
-        for j in j0..j1 {
-            let src = (j - j0) as usize * tw;
-            let dst = j as usize * w + i0 as usize;
-            depth[dst..dst + tw].copy_from_slice(&out.depth[src..src + tw]);
-            rgb[dst * 3..(dst + tw) * 3].copy_from_slice(&out.rgb[src * 3..(src + tw) * 3]);
-        }
         let s = out.stats;
         stats.rays += s.rays;
         stats.shadow_rays += s.shadow_rays;
@@ -310,10 +317,7 @@ fn render_tile<A: Arithmetic, S: Shape + ?Sized>(
     let (i0, j0, i1, j1) = rect;
     let tw = (i1 - i0) as usize;
     let n = tw * (j1 - j0) as usize;
-    let mut rgb = Vec::with_capacity(n * 3);
-    for _ in 0..n {
-        rgb.extend_from_slice(&opts.background);
-    }
+    let mut rgb = opts.background.repeat(n);
     let mut depth = vec![f32::INFINITY; n];
     let mut st = RenderStats::default();
     let mut stack = Vec::with_capacity(64);
@@ -402,7 +406,6 @@ fn render_tile<A: Arithmetic, S: Shape + ?Sized>(
     st.cells_culled = cs.cells_culled;
     st.pixels_culled = cs.pixels_culled;
     TileOut {
-        rect,
         rgb,
         depth,
         stats: st,
