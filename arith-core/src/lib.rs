@@ -8,7 +8,10 @@
 //!   `recip`, `exp`, `ln`, `sin`, `cos`, `abs`, `min`, `max`). `f64` implements it, so the
 //!   same generic model code serves point evaluation and every range arithmetic.
 //! - [`Range`]: a [`Real`] that is also a *sound enclosure*: inputs, bounds, the zero test
-//!   and the linear part used for argument pruning.
+//!   and the linear part used for argument pruning; inputs built as affine forms of the
+//!   input symbols ([`Range::from_affine`], a frustum of rays in depth and pixel
+//!   coordinates) and the form's part on the first inputs ([`Range::affine_part`], one
+//!   ray's share of a bundle's range).
 //! - [`Arithmetic`]: a family naming the shortest form for rays ([`Arithmetic::Ray`], one
 //!   input symbol) and the form for 3-D cells ([`Arithmetic::Cell`], three independent
 //!   input symbols).
