@@ -135,7 +135,7 @@ impl Fit {
     fn new<R: Range>(f: &R, s: (f64, f64)) -> Option<Fit> {
         let a = f.affine_part::<3>()?;
         let [cs, cu, cv] = a.xs;
-        // `g = c0 + cu u + cv v` in three roundings: off by <= 4U (|c0| + |cu| + |cv|) +
+        // `g = c0 + cu u + cv v` in four roundings: off by <= 4U (|c0| + |cu| + |cv|) +
         // 2 ETA; `u`, `v` themselves (two roundings each, |u|, |v| <= 1) move it by
         // <= 2.01U (|cu| + |cv|) more.
         let mag = a.x0.abs() + cu.abs() + cv.abs();
