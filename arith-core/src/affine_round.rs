@@ -17,7 +17,7 @@
 //! - A sum of `m` nonnegative terms computed left to right is `>= (1-U)^(m-1)` times the
 //!   exact sum of the computed terms (no underflow loss in additions).
 
-use crate::round::{two_sum, ETA, U};
+use crate::round::{step_down, step_up, two_sum, ETA, U};
 
 /// `1 + 2(k+2)U`, exactly representable; `c_k (1-U)^(k+2) >= 1`.
 #[inline(always)]
@@ -47,22 +47,6 @@ pub fn up_abs(s: f64, k: usize) -> f64 {
     // (exact below 2^-1021). Then r >= (1-U)^2 c s - ETA/2 + (1-U)(k+1/2)ETA
     //                                >= T - c k ETA + (1-U)(k+1/2) ETA >= T.
     s * slack(k) + (k + 1) as f64 * ETA
-}
-
-/// The float after `s` when `s` is finite or `-inf` (`next_up` without the branches for
-/// NaN, `+inf` and `-0`): the callers below use it only where the sum that gave `s` was
-/// inexact, so `s` is not NaN, `+inf` or a zero.
-#[inline(always)]
-fn step_up(s: f64) -> f64 {
-    let b = s.to_bits() as i64;
-    // Positive (incl. +0): one more; negative: one less in magnitude.
-    f64::from_bits(b.wrapping_add((b >> 63) | 1) as u64)
-}
-
-/// The float before `s` when `s` is finite or `+inf`, not a zero (as `step_up`).
-#[inline(always)]
-fn step_down(s: f64) -> f64 {
-    -step_up(-s)
 }
 
 /// `fl(a + b)` rounded towards `+inf` only when it was inexact (tight: exact sums stay).
@@ -108,6 +92,22 @@ pub fn affine_at<const K: usize>(x0: f64, xs: &[f64], e: f64) -> Option<crate::A
     let e = xs.iter().skip(K).fold(e, |r, c| add_dir_up(r, c.abs()));
     (x0.is_finite() && e.is_finite() && cs.iter().all(|c| c.is_finite()))
         .then_some(crate::AffinePart { x0, xs: cs, e })
+}
+
+/// The form `c0 + Σ cs[i] εi ± err` of `N` symbols for [`crate::Range::from_affine`]:
+/// the coefficients as they are, those past `N` added to the error rounded up. `None`
+/// when a value is not finite.
+#[inline]
+pub fn form_of<const N: usize>(c0: f64, cs: &[f64], err: f64) -> Option<(f64, [f64; N], f64)> {
+    if !(c0.is_finite() && err.is_finite() && cs.iter().all(|c| c.is_finite())) {
+        return None;
+    }
+    let xs = core::array::from_fn(|i| cs.get(i).copied().unwrap_or(0.0));
+    let e = cs
+        .iter()
+        .skip(N)
+        .fold(err.abs(), |r, c| add_dir_up(r, c.abs()));
+    Some((c0, xs, e))
 }
 
 /// The directed bounds `x0 ∓ rad` of a form with radius `rad` (from [`rad_dir`]), the
@@ -291,48 +291,6 @@ pub const TINY: f64 = 1e-300;
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// The branch-free steps agree with `next_up`/`next_down` wherever they are used.
-    #[test]
-    fn steps_match_next_up_and_down() {
-        let mut xs = vec![
-            f64::NEG_INFINITY,
-            f64::MAX,
-            -f64::MAX,
-            f64::MIN_POSITIVE,
-            -f64::MIN_POSITIVE,
-            ETA,
-            -ETA,
-            2.0 * ETA,
-            1.0,
-            -1.0,
-            0.1,
-            -3.5e300,
-            7e-310,
-        ];
-        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
-        for _ in 0..10_000 {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            let x = f64::from_bits(seed);
-            if x.is_finite() && x != 0.0 {
-                xs.push(x);
-            }
-        }
-        for x in xs {
-            assert_eq!(step_up(x).to_bits(), x.next_up().to_bits(), "up {x:e}");
-            if x != f64::NEG_INFINITY {
-                assert_eq!(
-                    step_down(x).to_bits(),
-                    x.next_down().to_bits(),
-                    "down {x:e}"
-                );
-            }
-        }
-        assert_eq!(step_up(0.0), ETA);
-        assert_eq!(step_down(f64::INFINITY), f64::MAX);
-    }
 
     /// `bounds_fast` and `mig_lower` against the tight directed bounds of the same forms:
     /// never inside them, and only a few ulps outside.

@@ -152,9 +152,15 @@ pub trait Range: Real {
         !(lo > 0.0 || hi < 0.0)
     }
     /// The linear part on the first input symbol, for argument pruning. `None` for
-    /// arithmetics without one (intervals) or for unbounded forms.
+    /// arithmetics without one (intervals) or for unbounded forms. By default the
+    /// [`Range::affine_part`] on that one input.
     fn linear_part(&self) -> Option<Linear> {
-        None
+        let a = self.affine_part::<1>()?;
+        Some(Linear {
+            f0: a.x0,
+            f1: a.xs[0],
+            e: a.e,
+        })
     }
     /// The form's centre and coefficients on the inputs `0..K`, every other term (other
     /// symbols, the error part) bounded in `e`: the value lies in

@@ -42,13 +42,28 @@ pub fn down(x: f64) -> f64 {
     }
 }
 
+/// The float after `s` when `s` is finite or `-inf`, not `-0` (`next_up` without the
+/// branches for NaN, `+inf` and `-0`): for callers that know `s` is not one of those,
+/// such as the directed sums of `affine_round`, which step only inexact sums.
+#[inline(always)]
+pub(crate) fn step_up(s: f64) -> f64 {
+    let b = s.to_bits() as i64;
+    // Positive (incl. +0): one more; negative: one less in magnitude.
+    f64::from_bits(b.wrapping_add((b >> 63) | 1) as u64)
+}
+
+/// The float before `s` when `s` is finite or `+inf`, not `+0` (as [`step_up`]).
+#[inline(always)]
+pub(crate) fn step_down(s: f64) -> f64 {
+    -step_up(-s)
+}
+
 /// [`up`] without branches: `x.next_up()` for every `x` but `+inf` and NaN, which give
 /// NaN (so a caller's finiteness check still catches them).
 #[inline(always)]
 pub fn up_finite(x: f64) -> f64 {
-    // `+ 0.0` turns -0 into +0; then positive: one more, negative: one less in magnitude.
-    let b = (x + 0.0).to_bits() as i64;
-    f64::from_bits(b.wrapping_add((b >> 63) | 1) as u64)
+    // `+ 0.0` turns -0 into +0, which `step_up` takes to the least subnormal.
+    step_up(x + 0.0)
 }
 
 /// [`down`] without branches: `x.next_down()` for every `x` but `-inf` and NaN, which
@@ -148,16 +163,15 @@ pub fn libm_enclose(v: f64) -> (f64, f64) {
 mod tests {
     use super::*;
 
-    /// The branch-free steps agree with `next_up`/`next_down` (zeros, subnormals, the
-    /// largest floats and the inward steps from infinities included); outward from an
-    /// infinity or from NaN they give NaN.
-    #[test]
-    fn finite_steps_match_next_up_and_down() {
+    /// Finite floats of every kind: zeros, subnormals, the extremes and random bits.
+    fn finite_samples() -> Vec<f64> {
         let mut xs = vec![
             0.0,
             -0.0,
             ETA,
             -ETA,
+            2.0 * ETA,
+            7e-310,
             f64::MIN_POSITIVE,
             -f64::MIN_POSITIVE,
             f64::MAX,
@@ -166,6 +180,7 @@ mod tests {
             -1.0,
             0.1,
             -3.5e-300,
+            -3.5e300,
         ];
         let mut r = 0x9E37_79B9_7F4A_7C15u64;
         for _ in 0..100_000 {
@@ -177,7 +192,25 @@ mod tests {
                 xs.push(x);
             }
         }
-        for x in xs {
+        xs
+    }
+
+    /// The branch-free steps agree with `next_up`/`next_down`: `step_up`/`step_down` on
+    /// every float they are used on (not a zero; `-inf` up and `+inf` down included),
+    /// `up_finite`/`down_finite` on every finite float (zeros, subnormals, the largest
+    /// floats) and inward from the infinities; outward from an infinity or from NaN the
+    /// latter give NaN.
+    #[test]
+    fn steps_match_next_up_and_down() {
+        for x in finite_samples() {
+            if x != 0.0 {
+                assert_eq!(step_up(x).to_bits(), x.next_up().to_bits(), "step up {x:e}");
+                assert_eq!(
+                    step_down(x).to_bits(),
+                    x.next_down().to_bits(),
+                    "step down {x:e}"
+                );
+            }
             assert_eq!(up_finite(x).to_bits(), x.next_up().to_bits(), "up {x:e}");
             assert_eq!(
                 down_finite(x).to_bits(),
@@ -185,6 +218,9 @@ mod tests {
                 "down {x:e}"
             );
         }
+        assert_eq!(step_up(0.0), ETA);
+        assert_eq!(step_up(f64::NEG_INFINITY), f64::MIN);
+        assert_eq!(step_down(f64::INFINITY), f64::MAX);
         assert_eq!(up_finite(f64::NEG_INFINITY), f64::MIN);
         assert_eq!(down_finite(f64::INFINITY), f64::MAX);
         for x in [f64::INFINITY, f64::NAN, -f64::NAN] {

@@ -30,7 +30,7 @@ use arith_core::affine_round as fp;
 
 use arith_core::approx::{self, Approx};
 use arith_core::round::U;
-use arith_core::{AffinePart, Arithmetic, Linear, Range, Real};
+use arith_core::{AffinePart, Arithmetic, Range, Real};
 use core::ops::{Add, Div, Mul, Neg, Sub};
 use fp::{add_dir_down, add_dir_up, k_lin, k_mul, mid_rad, up_abs, up_rel};
 
@@ -471,19 +471,10 @@ impl<const N: usize> Range for Raa<N> {
 
     /// The coefficients as they are; those past `N` symbols join the error term.
     fn from_affine(c0: f64, cs: &[f64], err: f64) -> Self {
-        if !(c0.is_finite() && err.is_finite() && cs.iter().all(|c| c.is_finite())) {
-            return Self::UNBOUNDED;
+        match fp::form_of(c0, cs, err) {
+            Some((x0, xs, acc)) => Raa { x0, xs, acc },
+            None => Self::UNBOUNDED,
         }
-        let mut xs = [0.0; N];
-        let mut acc = err.abs();
-        for (i, &c) in cs.iter().enumerate() {
-            if i < N {
-                xs[i] = c;
-            } else {
-                acc = add_dir_up(acc, c.abs());
-            }
-        }
-        Raa { x0: c0, xs, acc }
     }
 
     /// `x0 ∓ (Σ|xi| + acc)`, outward rounded (exact results stay exact).
@@ -495,20 +486,6 @@ impl<const N: usize> Range for Raa<N> {
     #[inline(always)]
     fn contains_zero(&self) -> bool {
         fp::holds_zero(self.x0, fp::rad_dir(&self.xs, self.acc))
-    }
-
-    /// `f0 = x0`, `f1 = xs[0]`, `e = Σ_{i>=1} |xi| + acc` rounded up.
-    fn linear_part(&self) -> Option<Linear> {
-        let f1 = self.xs.first().copied().unwrap_or(0.0);
-        let mut e = self.acc;
-        for c in self.xs.iter().skip(1) {
-            e = add_dir_up(e, c.abs());
-        }
-        if self.x0.is_finite() && f1.is_finite() && e.is_finite() {
-            Some(Linear { f0: self.x0, f1, e })
-        } else {
-            None
-        }
     }
 
     fn affine_part<const K: usize>(&self) -> Option<AffinePart<K>> {

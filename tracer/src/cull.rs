@@ -112,9 +112,24 @@ struct Bundle {
     ihy: f64,
 }
 
-/// The depths of a slice that its test could not prove root-free, and what its frustum
-/// form says about the bundle's rays (`None` for a box test, or without an affine part).
-type Kept = ((f64, f64), Option<Fit>);
+impl Bundle {
+    /// Pixel column `i`'s coordinate `u` in `[-1, 1]` (two roundings).
+    #[inline(always)]
+    fn u_of(&self, i: u32) -> f64 {
+        (i as f64 + 0.5 - self.xc) * self.ihx
+    }
+
+    /// Pixel row `j`'s coordinate `v` in `[-1, 1]` (two roundings).
+    #[inline(always)]
+    fn v_of(&self, j: u32) -> f64 {
+        (j as f64 + 0.5 - self.yc) * self.ihy
+    }
+}
+
+/// The depths of a slice that its test could not prove root-free, and its frustum form
+/// with the slice it was computed on (`None` for a box test); only the last one a
+/// narrowing keeps becomes a [`Fit`].
+type Kept<R> = ((f64, f64), Option<(R, (f64, f64))>);
 
 /// A bundle's range over the slice of depths `s` in its frustum form (see
 /// [`Culler::frustum`]), as `c0 + cs eps0 + cu u + cv v ± e` (eps0 the depth symbol, `u`,
@@ -307,7 +322,7 @@ impl Culler {
         bundle: &Bundle,
         s: (f64, f64),
         stats: &mut CullStats,
-    ) -> Option<Kept> {
+    ) -> Option<Kept<R>> {
         stats.cells_tested += 1;
         let (b, (t0, t1)) = self.box_of((bundle.dmin, bundle.dmax), s)?;
         if R::INPUTS >= 3 {
@@ -324,7 +339,7 @@ impl Culler {
             if kept.0 > kept.1 {
                 return None;
             }
-            return Some((kept, Fit::new(&f, (t0, t1))));
+            return Some((kept, Some((f, (t0, t1)))));
         }
         let x = R::input(0, b.min.x, b.max.x);
         let y = R::input(1, b.min.y, b.max.y);
@@ -377,7 +392,7 @@ impl Culler {
         s: (f64, f64),
         start: Start,
         stats: &mut CullStats,
-    ) -> Option<Kept> {
+    ) -> Option<((f64, f64), Option<Fit>)> {
         // A slice this thin (relative to the cell's width there) is not split further.
         let small = |a: f64, b: f64| b - a <= width * b.max(0.0) + self.margin;
         let mut stack = [(0.0f64, 0.0f64); NARROW_STACK];
@@ -433,7 +448,7 @@ impl Culler {
             }
             let mid = 0.5 * cur.0 + 0.5 * cur.1;
             if small(cur.0, cur.1) || sp == NARROW_STACK || mid <= cur.0 || mid >= cur.1 {
-                return Some((cur, last));
+                return Some((cur, last.and_then(|(f, sl): (R, _)| Fit::new(&f, sl))));
             }
             stack[sp] = (mid, cur.1);
             sp += 1;
@@ -537,8 +552,7 @@ impl Culler {
         (i0, j0, i1, j1): (u32, u32, u32, u32),
         s_range: (f64, f64),
     ) -> Option<Start> {
-        let u = |i: u32| (i as f64 + 0.5 - b.xc) * b.ihx;
-        let v = |j: u32| (j as f64 + 0.5 - b.yc) * b.ihy;
+        let (u, v) = (|i| b.u_of(i), |j| b.v_of(j));
         let (f0, e) = if i1 - i0 == 1 && j1 - j0 == 1 {
             (fit.c0 + fit.cu * u(i0) + fit.cv * v(j0), fit.e)
         } else {
@@ -744,8 +758,7 @@ mod tests {
                     let (m, r) = (0.5 * s0 + 0.5 * s1, 0.5 * s1 - 0.5 * s0);
                     for j in j0..j1 {
                         for i in i0..i1 {
-                            let u = (i as f64 + 0.5 - b.xc) * b.ihx;
-                            let w = (j as f64 + 0.5 - b.yc) * b.ihy;
+                            let (u, w) = (b.u_of(i), b.v_of(j));
                             assert!(u.abs() <= 1.0 && w.abs() <= 1.0, "{u} {w}");
                             let (o, d) = cam.ray(i, j);
                             let f = d.dot(cam.forward);

@@ -356,7 +356,7 @@ pub fn first_root_scratch<R: Range, S: Shape + ?Sized>(
         t0,
         split,
         resume,
-        step: first_step,
+        step: mut first_step,
         t1,
     } = seg;
     if t0.partial_cmp(&t1).is_none_or(|o| o.is_gt()) {
@@ -368,7 +368,6 @@ pub fn first_root_scratch<R: Range, S: Shape + ?Sized>(
     // over the whole rest is loose).
     let (mut a, mut b) = (t0, t1);
     let mut rest = t1;
-    let mut first_step = first_step;
     if t0 < split && split < t1 {
         b = split;
         rest = resume.clamp(split, t1);

@@ -178,6 +178,49 @@ pub fn check_bounds_shape<R: Range>(v: &R) -> TestCaseResult {
     Ok(())
 }
 
+/// The point `x_i = mid_i + rad_i * eps_i` of the ranges (exact reals: where input `i`
+/// is when its symbol is at `eps_i`), enclosed rigorously at precision `p`.
+fn point_at(ranges: &[(f64, f64)], eps: &[f64], p: usize) -> Option<Vec<Mp>> {
+    let half = Mp::point_p(0.5, p)?;
+    ranges
+        .iter()
+        .zip(eps)
+        .map(|(&(a, b), &e)| {
+            let (a, b, e) = (Mp::point_p(a, p)?, Mp::point_p(b, p)?, Mp::point_p(e, p)?);
+            let mid = a.add(&b)?.mul(&half)?;
+            let rad = b.sub(&a)?.mul(&half)?;
+            mid.add(&rad.mul(&e)?)
+        })
+        .collect()
+}
+
+/// The exact `value` minus `x0 + Σ xs[i] eps[i]` must lie in `[-e, e]`: a provable miss
+/// fails with `what(residual)`; undecided points are counted, undefined ones skipped.
+fn check_residual(
+    value: &Mp,
+    x0: f64,
+    xs: &[f64],
+    eps: &[f64],
+    e: f64,
+    stats: &Stats,
+    what: impl FnOnce(String) -> String,
+) -> TestCaseResult {
+    let mut centre = Mp::point(x0);
+    for (&c, &t) in xs.iter().zip(eps) {
+        centre = centre.and_then(|m| m.add(&Mp::point(c)?.mul(&Mp::point(t)?)?));
+    }
+    let Some(d) = centre.and_then(|c| value.sub(&c)) else {
+        return Ok(());
+    };
+    match d.verdict(-e, e) {
+        Verdict::Outside => Err(TestCaseError::fail(what(d.describe()))),
+        verdict => {
+            record(stats, -e, e, verdict == Verdict::Inside);
+            Ok(())
+        }
+    }
+}
+
 /// `R::input(i, lo, hi)` for each range `i`.
 pub fn inputs_of<R: Range>(ranges: &[(f64, f64)]) -> Vec<R> {
     ranges
@@ -402,21 +445,7 @@ pub fn check_joint_inclusion<R: Range>(default_cases: u32) {
                 !lo.is_nan() && !hi.is_nan() && lo <= hi,
                 "bounds_at_inputs({eps:?}) = [{lo}, {hi}]"
             );
-            // x_i = mid_i + rad_i * eps_i, enclosed rigorously at precision p.
-            let point = |p: usize| -> Option<Vec<Mp>> {
-                ranges
-                    .iter()
-                    .zip(eps)
-                    .map(|(&(a, b), &e)| {
-                        let (a, b, e) =
-                            (Mp::point_p(a, p)?, Mp::point_p(b, p)?, Mp::point_p(e, p)?);
-                        let half = Mp::point_p(0.5, p)?;
-                        let mid = a.add(&b)?.mul(&half)?;
-                        let rad = b.sub(&a)?.mul(&half)?;
-                        mid.add(&rad.mul(&e)?)
-                    })
-                    .collect()
-            };
+            let point = |p: usize| point_at(&ranges, eps, p);
             for (what, l, h) in [("bounds_at_inputs", lo, hi), ("bounds", glo, ghi)] {
                 match check_point_mp(&case.expr, &point, l, h) {
                     Err(m) => {
@@ -496,17 +525,7 @@ pub fn check_linear_part<R: Range>(default_cases: u32) {
         for pt in &pts {
             // x0 = mid0 + rad0*eps1 (exact reals), the others at the drawn points.
             let point = |p: usize| -> Option<Vec<Mp>> {
-                let half = Mp::point_p(0.5, p)?;
-                let (a, b, e) = (
-                    Mp::point_p(a0, p)?,
-                    Mp::point_p(b0, p)?,
-                    Mp::point_p(eps1, p)?,
-                );
-                let x0 = a
-                    .add(&b)?
-                    .mul(&half)?
-                    .add(&b.sub(&a)?.mul(&half)?.mul(&e)?)?;
-                let mut xs = vec![x0];
+                let mut xs = point_at(&[(a0, b0)], &[eps1], p)?;
                 for &x in &pt[1..] {
                     xs.push(Mp::point_p(x, p)?);
                 }
@@ -515,21 +534,11 @@ pub fn check_linear_part<R: Range>(default_cases: u32) {
             let Some(r) = point(PREC).and_then(|xs| expr.reference(&xs)) else {
                 continue;
             };
-            // d = value - (f0 + f1*eps1) must lie in [-e, e].
-            let centre = Mp::point(lin.f0)
-                .and_then(|f0| f0.add(&Mp::point(lin.f1)?.mul(&Mp::point(eps1)?)?));
-            let Some(d) = centre.and_then(|c| r.sub(&c)) else {
-                continue;
-            };
-            match d.verdict(-lin.e, lin.e) {
-                Verdict::Outside => {
-                    return Err(TestCaseError::fail(format!(
-                        "UNSOUND linear part: {expr}\n  {lin:?} at eps1 = {eps1}\n  value - (f0 + f1*eps1) in {}\n  point {pt:?} (x0 from eps1)\n  ranges {ranges:?}",
-                        d.describe()
-                    )))
-                }
-                v => record(&stats, -lin.e, lin.e, v == Verdict::Inside),
-            }
+            check_residual(&r, lin.f0, &[lin.f1], &[eps1], lin.e, &stats, |d| {
+                format!(
+                    "UNSOUND linear part: {expr}\n  {lin:?} at eps1 = {eps1}\n  value - (f0 + f1*eps1) in {d}\n  point {pt:?} (x0 from eps1)\n  ranges {ranges:?}"
+                )
+            })?;
         }
         Ok(())
     });
@@ -562,38 +571,14 @@ pub fn check_affine_part<R: Range>(default_cases: u32) {
             "affine part {a:?} has NaN or negative e"
         );
         for eps in &draws {
-            let half = |p| Mp::point_p(0.5, p);
-            let point = |p: usize| -> Option<Vec<Mp>> {
-                ranges
-                    .iter()
-                    .zip(eps)
-                    .map(|(&(lo, hi), &t)| {
-                        let (lo, hi, t) =
-                            (Mp::point_p(lo, p)?, Mp::point_p(hi, p)?, Mp::point_p(t, p)?);
-                        let h = half(p)?;
-                        lo.add(&hi)?.mul(&h)?.add(&hi.sub(&lo)?.mul(&h)?.mul(&t)?)
-                    })
-                    .collect()
-            };
-            let Some(r) = point(PREC).and_then(|xs| expr.reference(&xs)) else {
+            let Some(r) = point_at(&ranges, eps, PREC).and_then(|xs| expr.reference(&xs)) else {
                 continue;
             };
-            let mut centre = Mp::point(a.x0);
-            for (c, &t) in a.xs.iter().zip(eps) {
-                centre = centre.and_then(|m| m.add(&Mp::point(*c)?.mul(&Mp::point(t)?)?));
-            }
-            let Some(d) = centre.and_then(|c| r.sub(&c)) else {
-                continue;
-            };
-            match d.verdict(-a.e, a.e) {
-                Verdict::Outside => {
-                    return Err(TestCaseError::fail(format!(
-                        "UNSOUND affine part: {expr}\n  {a:?} at eps {eps:?}\n  value - (x0 + Σ xs eps) in {}\n  ranges {ranges:?}",
-                        d.describe()
-                    )))
-                }
-                verdict => record(&stats, -a.e, a.e, verdict == Verdict::Inside),
-            }
+            check_residual(&r, a.x0, &a.xs, eps, a.e, &stats, |d| {
+                format!(
+                    "UNSOUND affine part: {expr}\n  {a:?} at eps {eps:?}\n  value - (x0 + Σ xs eps) in {d}\n  ranges {ranges:?}"
+                )
+            })?;
         }
         Ok(())
     });
