@@ -92,6 +92,7 @@ impl Arithmetic for AaArith {
     const LABEL: &'static str = "AA";
     type Ray = Aa;
     type Cell = Aa;
+    type RayPack = arith_core::pack::Lanes<Aa>;
 }
 
 /// The smallest float `>= a + b`: `fl(a + b)` when TwoSum shows it exact or rounded up,

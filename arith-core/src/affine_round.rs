@@ -21,7 +21,7 @@ use crate::round::{step_down, step_up, two_sum, ETA, U};
 
 /// `1 + 2(k+2)U`, exactly representable; `c_k (1-U)^(k+2) >= 1`.
 #[inline(always)]
-const fn slack(k: usize) -> f64 {
+pub const fn slack(k: usize) -> f64 {
     1.0 + (2 * (k + 2)) as f64 * U
 }
 

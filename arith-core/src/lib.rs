@@ -14,7 +14,8 @@
 //!   ray's share of a bundle's range).
 //! - [`Arithmetic`]: a family naming the shortest form for rays ([`Arithmetic::Ray`], one
 //!   input symbol) and the form for 3-D cells ([`Arithmetic::Cell`], three independent
-//!   input symbols).
+//!   input symbols) and a pack of four ray forms evaluated together
+//!   ([`Arithmetic::RayPack`], see [`pack`]).
 //! - [`approx`]: the single source of affine approximations `f(x) ∈ alpha*x + zeta ± delta`
 //!   of every non-affine function on `[a, b]`, used by all affine arithmetics.
 //! - [`round`]: rounding helpers (outward rounding with `next_up`/`next_down`, error-free
@@ -57,6 +58,7 @@
 
 pub mod affine_round;
 pub mod approx;
+pub mod pack;
 pub mod rfunc;
 pub mod round;
 #[cfg(feature = "testkit")]

@@ -193,6 +193,9 @@ pub trait Arithmetic: Send + Sync + 'static {
     type Ray: Range;
     /// Form for a 3-D cell: three independent inputs (`x`, `y`, `z`).
     type Cell: Range;
+    /// Four ray forms evaluated together ([`crate::pack`]): a SIMD form where the
+    /// arithmetic has one, else `Lanes<Self::Ray>`.
+    type RayPack: crate::pack::Pack<Lane = Self::Ray>;
 }
 
 impl Real for f64 {

@@ -55,6 +55,7 @@ impl Arithmetic for IaArith {
     const LABEL: &'static str = "IA";
     type Ray = Interval;
     type Cell = Interval;
+    type RayPack = arith_core::pack::Lanes<Interval>;
 }
 
 impl Interval {

@@ -52,6 +52,7 @@ impl Arithmetic for RaaArith {
     const LABEL: &'static str = "RAA*";
     type Ray = Raa<1>;
     type Cell = Raa<3>;
+    type RayPack = arith_core::pack::Lanes<Raa<1>>;
 }
 
 impl<const N: usize> Raa<N> {

@@ -10,7 +10,8 @@
 //! Only the input symbols are kept (`N` of them: `N = 1` for a ray, `N = 3` for a cell);
 //! every approximation error goes into the symmetric radius `e`. The form is `Copy`, of
 //! fixed size and allocation-free, so the hot path of a ray (`RevAa<1>`, three `f64`s)
-//! stays in registers.
+//! stays in registers. [`RevAa1x4`] holds four ray forms in SIMD registers, each lane
+//! computed exactly as the scalar form (the tracer searches four rays at once with it).
 //!
 //! Soundness: every operation bounds its own `f64` rounding errors and adds them to `e`
 //! (see the private `fp` module); non-affine operations use the shared
@@ -24,7 +25,10 @@ use arith_core::approx::{self, Approx};
 use arith_core::round::U;
 use arith_core::{AffinePart, Arithmetic, Range, Real};
 use core::ops::{Add, Div, Mul, Neg, Sub};
+
+mod pack;
 use fp::{add_dir_down, add_dir_up, k_lin, k_mul, mid_rad, up_abs, up_rel};
+pub use pack::RevAa1x4;
 
 /// A revised affine form with `N` input symbols:
 /// `x0 + Σ xs[i] ε_i + [-e, e]`, `e >= 0` (`e = +inf` for the unbounded form).
@@ -44,6 +48,7 @@ impl Arithmetic for RevAaArith {
     const LABEL: &'static str = "RevAA";
     type Ray = RevAa<1>;
     type Cell = RevAa<3>;
+    type RayPack = RevAa1x4;
 }
 
 impl<const N: usize> RevAa<N> {

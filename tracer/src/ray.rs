@@ -21,8 +21,14 @@
 //! form has already placed the ray's roots in a piece within the precision (see
 //! [`crate::cull`]), a sign change at its ends resolves the ray without any range
 //! evaluation: nothing before the piece holds a root, so the first root lies in it.
+//!
+//! The search is a state machine ([`RaySearch`]) that asks for one segment's range at a
+//! time, so a renderer can search four rays at once ([`first_roots`]): their segments
+//! are evaluated together in the arithmetic's [`Arithmetic::RayPack`] (SIMD lanes for
+//! RevAA), each lane exactly its scalar range, so the roots and counts are the same.
 
 use crate::shape::{Aabb, Shape};
+use arith_core::pack::{Pack, LANES};
 use arith_core::round::ETA;
 use arith_core::{Arithmetic, Linear, Range};
 use glam::DVec3;
@@ -122,11 +128,18 @@ pub fn range_on_segment<R: Range, S: Shape + ?Sized>(
     t0: f64,
     t1: f64,
 ) -> R {
+    let [x, y, z] = ray_inputs(o, d, t0, t1);
+    shape.eval(x, y, z)
+}
+
+/// The coordinates `o + t d` of the segment `[t0, t1]` of the ray, in the ray form.
+#[inline]
+pub fn ray_inputs<R: Range>(o: DVec3, d: DVec3, t0: f64, t1: f64) -> [R; 3] {
     let t = R::input(0, t0, t1);
     let x = t.clone() * d.x + o.x;
     let y = t.clone() * d.y + o.y;
     let z = t * d.z + o.z;
-    shape.eval(x, y, z)
+    [x, y, z]
 }
 
 /// Sound argument pruning (Section 4.1.2). With `t = m + r eps` (`m`, `r` the midpoint
@@ -352,48 +365,130 @@ pub fn first_root_scratch<R: Range, S: Shape + ?Sized>(
     stats: &mut RayStats,
     stack: &mut Vec<(f64, f64)>,
 ) -> Option<f64> {
-    let Search {
-        t0,
-        split,
-        resume,
-        step: mut first_step,
-        t1,
-    } = seg;
-    if t0.partial_cmp(&t1).is_none_or(|o| o.is_gt()) {
-        return None;
-    }
-    stack.clear();
-    // March: `[t0, split]` first, then pieces each `MARCH_GROWTH` times longer than the
-    // last segment proved root-free (a piece proved in one evaluation is cheap; one range
-    // over the whole rest is loose).
-    let (mut a, mut b) = (t0, t1);
-    let mut rest = t1;
-    if t0 < split && split < t1 {
-        b = split;
-        rest = resume.clamp(split, t1);
-        // A first piece already within the precision (a cell's form pruned for this ray)
-        // with a sign change at its ends holds the first root: nothing before `t0`. A
-        // piece up to SHORT_PIECES times longer: the same for its first precision's length.
-        let eps = params.precision.at(t0);
-        if split - t0 <= SHORT_PIECES * eps {
-            let c = (t0 + eps).min(split);
-            stats.point_evals += 2;
-            let fa: f64 = point_on_ray(shape, o, d, t0);
-            let fc: f64 = point_on_ray(shape, o, d, c);
-            if opposite(fa, fc) && c > t0 {
-                return Some(0.5 * t0 + 0.5 * c);
+    let ray = RayCtx {
+        shape,
+        o,
+        d,
+        params,
+    };
+    let (mut search, mut next) = RaySearch::start(&ray, seg, stats, stack);
+    loop {
+        match next {
+            Next::Eval(a, b) => {
+                let f: R = range_on_segment(shape, o, d, a, b);
+                next = search.feed(&f, &ray, stats, stack);
             }
+            Next::Done(hit) => return hit,
         }
     }
-    loop {
+}
+
+/// What a [`RaySearch`] needs of its ray between range evaluations: the shape (for the
+/// sign checks at points), the ray `o + t d` and the search options.
+#[derive(Clone, Copy)]
+pub struct RayCtx<'a, S: ?Sized> {
+    pub shape: &'a S,
+    pub o: DVec3,
+    pub d: DVec3,
+    pub params: &'a RayParams,
+}
+
+/// The next step of a [`RaySearch`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Next {
+    /// The range of the function on the segment `[a, b]` of the ray is needed (pass it
+    /// to [`RaySearch::feed`]).
+    Eval(f64, f64),
+    /// The search is over: the first root, or `None` for no root.
+    Done(Option<f64>),
+}
+
+/// Algorithm 1 on one ray as a state machine that asks for one segment's range at a
+/// time ([`first_root_scratch`] is its plain loop): a renderer can then evaluate the
+/// segments of four rays in one packed evaluation ([`arith_core::pack`]) and feed each
+/// its own lane. Whoever evaluates, each segment's range is the one the ray form gives,
+/// so the roots found are the same.
+#[derive(Clone, Copy, Debug)]
+pub struct RaySearch {
+    /// The segment whose range was last asked for.
+    a: f64,
+    b: f64,
+    /// Where the march goes on once the stack is empty.
+    rest: f64,
+    t1: f64,
+    first_step: f64,
+}
+
+impl RaySearch {
+    /// Starts the search of `seg` (the stack, lent by the caller, is emptied). A ray
+    /// may be resolved at once, by a sign change over its first piece.
+    #[inline]
+    pub fn start<S: Shape + ?Sized>(
+        ray: &RayCtx<'_, S>,
+        seg: Search,
+        stats: &mut RayStats,
+        stack: &mut Vec<(f64, f64)>,
+    ) -> (RaySearch, Next) {
+        let Search {
+            t0,
+            split,
+            resume,
+            step,
+            t1,
+        } = seg;
+        let mut s = RaySearch {
+            a: t0,
+            b: t1,
+            rest: t1,
+            t1,
+            first_step: step,
+        };
+        if t0.partial_cmp(&t1).is_none_or(|o| o.is_gt()) {
+            return (s, Next::Done(None));
+        }
+        stack.clear();
+        // March: `[t0, split]` first, then pieces each `MARCH_GROWTH` times longer than
+        // the last segment proved root-free (a piece proved in one evaluation is cheap;
+        // one range over the whole rest is loose).
+        if t0 < split && split < t1 {
+            s.b = split;
+            s.rest = resume.clamp(split, t1);
+            // A first piece already within the precision (a cell's form pruned for this
+            // ray) with a sign change at its ends holds the first root: nothing before
+            // `t0`. A piece up to SHORT_PIECES times longer: the same for its first
+            // precision's length.
+            let eps = ray.params.precision.at(t0);
+            if split - t0 <= SHORT_PIECES * eps {
+                let c = (t0 + eps).min(split);
+                stats.point_evals += 2;
+                let fa: f64 = point_on_ray(ray.shape, ray.o, ray.d, t0);
+                let fc: f64 = point_on_ray(ray.shape, ray.o, ray.d, c);
+                if opposite(fa, fc) && c > t0 {
+                    return (s, Next::Done(Some(0.5 * t0 + 0.5 * c)));
+                }
+            }
+        }
+        (s, Next::Eval(s.a, s.b))
+    }
+
+    /// Goes on with `f`, the range on the segment last asked for.
+    #[inline]
+    pub fn feed<R: Range, S: Shape + ?Sized>(
+        &mut self,
+        f: &R,
+        ray: &RayCtx<'_, S>,
+        stats: &mut RayStats,
+        stack: &mut Vec<(f64, f64)>,
+    ) -> Next {
+        let (shape, o, d, params) = (ray.shape, ray.o, ray.d, ray.params);
+        let (mut a, mut b, t1) = (self.a, self.b, self.t1);
         stats.range_evals += 1;
-        let f: R = range_on_segment(shape, o, d, a, b);
         let mut keep = f.contains_zero();
         // Pruning shrank the segment a lot: test the pruned segment itself (an affine
         // Newton step; it converges fast) rather than split it, unless it is resolved.
         let mut shrunk = false;
         if keep && params.pruning {
-            match prune(&f, a, b) {
+            match prune(f, a, b) {
                 Some(None) => {
                     stats.pruned_empty += 1;
                     keep = false;
@@ -432,7 +527,7 @@ pub fn first_root_scratch<R: Range, S: Shape + ?Sized>(
                     if c > b {
                         stats.point_evals += 1;
                         if opposite(fb, point_on_ray(shape, o, d, c)) {
-                            return Some(b);
+                            return Next::Done(Some(b));
                         }
                     }
                     false
@@ -441,18 +536,18 @@ pub fn first_root_scratch<R: Range, S: Shape + ?Sized>(
                 false
             };
             if resolved || mid <= a || mid >= b || stack.len() == STACK {
-                return Some(mid);
+                return Next::Done(Some(mid));
             }
-            if shrunk {
-                continue;
+            if !shrunk {
+                stack.push((mid, b));
+                b = mid;
             }
-            stack.push((mid, b));
-            b = mid;
-            continue;
-        }
-        let Some(next) = stack.pop() else {
+        } else if let Some(next) = stack.pop() {
+            (a, b) = next;
+        } else {
+            let rest = self.rest;
             if rest >= t1 {
-                return None;
+                return Next::Done(None);
             }
             // `[a, b]` was just proved root-free: the next piece is a little longer than
             // that (a piece that had to be halved says the function's ranges are only
@@ -461,14 +556,124 @@ pub fn first_root_scratch<R: Range, S: Shape + ?Sized>(
             // zero step would never end).
             let step = ((b - a) * MARCH_GROWTH)
                 .max(params.precision.at(rest))
-                .max(first_step);
-            first_step = 0.0;
+                .max(self.first_step);
+            self.first_step = 0.0;
             a = rest;
             b = next_piece(rest, t1, step);
-            rest = b;
-            continue;
+            self.rest = b;
+        }
+        self.a = a;
+        self.b = b;
+        Next::Eval(a, b)
+    }
+}
+
+/// One ray for [`first_roots`]: `o + t d` searched as `seg` says.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RayJob {
+    pub o: DVec3,
+    pub d: DVec3,
+    pub seg: Search,
+}
+
+/// [`first_root_scratch`] for many rays, four at a time: each step evaluates the
+/// segments asked for by up to four searches in one [`Arithmetic::RayPack`] evaluation
+/// (one scalar evaluation when a single search is left), and a finished search's slot
+/// takes the next ray. Calls `done(index, first root, counters)` once per ray, in the
+/// order the rays finish. The roots are those of [`first_root_scratch`], ray by ray:
+/// each lane of a pack is the scalar ray form's range.
+pub fn first_roots<A: Arithmetic, S: Shape + ?Sized>(
+    shape: &S,
+    params: &RayParams,
+    rays: &[RayJob],
+    mut done: impl FnMut(usize, Option<f64>, RayStats),
+) {
+    struct Slot {
+        ray: usize,
+        search: RaySearch,
+        seg: (f64, f64),
+        stats: RayStats,
+    }
+    let ctx = |r: &RayJob| RayCtx {
+        shape,
+        o: r.o,
+        d: r.d,
+        params,
+    };
+    let mut slots: [Option<Slot>; LANES] = Default::default();
+    let mut stacks: [Vec<(f64, f64)>; LANES] = core::array::from_fn(|_| Vec::with_capacity(64));
+    let mut queue = 0..rays.len();
+    loop {
+        for (slot, stack) in slots.iter_mut().zip(&mut stacks) {
+            while slot.is_none() {
+                let Some(ray) = queue.next() else { break };
+                let mut stats = RayStats::default();
+                let (search, next) =
+                    RaySearch::start(&ctx(&rays[ray]), rays[ray].seg, &mut stats, stack);
+                match next {
+                    Next::Eval(a, b) => {
+                        *slot = Some(Slot {
+                            ray,
+                            search,
+                            seg: (a, b),
+                            stats,
+                        })
+                    }
+                    Next::Done(hit) => done(ray, hit, stats),
+                }
+            }
+        }
+        let mut active = [0; LANES];
+        let mut n = 0;
+        for (k, s) in slots.iter().enumerate() {
+            if s.is_some() {
+                active[n] = k;
+                n += 1;
+            }
+        }
+        if n == 0 {
+            return;
+        }
+        let first = active[0];
+        // Lanes without a search repeat the first one's segment (their results are
+        // dropped).
+        let seg_of = |k: usize| {
+            slots[k]
+                .as_ref()
+                .or(slots[first].as_ref())
+                .map(|s| (&rays[s.ray], s.seg))
         };
-        (a, b) = next;
+        let ranges: [Option<A::Ray>; LANES] = if n == 1 {
+            let (r, (a, b)) = seg_of(first).expect("an active slot");
+            let mut ranges: [Option<A::Ray>; LANES] = Default::default();
+            ranges[first] = Some(range_on_segment(shape, r.o, r.d, a, b));
+            ranges
+        } else {
+            // `ray_inputs` lane by lane: `t d + o`.
+            let lanes: [(&RayJob, (f64, f64)); LANES] =
+                core::array::from_fn(|k| seg_of(k).expect("an active slot"));
+            let t = A::RayPack::pack(lanes.map(|(_, (a, b))| A::Ray::input(0, a, b)));
+            let [x, y, z]: [A::RayPack; 3] = core::array::from_fn(|i| {
+                t.clone()
+                    .mul_add_lanes(lanes.map(|(r, _)| r.d[i]), lanes.map(|(r, _)| r.o[i]))
+            });
+            shape.eval(x, y, z).unpack().map(Some)
+        };
+        for &k in &active[..n] {
+            let (Some(s), Some(f)) = (slots[k].as_mut(), &ranges[k]) else {
+                continue;
+            };
+            match s
+                .search
+                .feed(f, &ctx(&rays[s.ray]), &mut s.stats, &mut stacks[k])
+            {
+                Next::Eval(a, b) => s.seg = (a, b),
+                Next::Done(hit) => {
+                    done(s.ray, hit, s.stats);
+                    slots[k] = None;
+                }
+            }
+        }
     }
 }
 
@@ -509,6 +714,66 @@ mod tests {
             );
             assert_eq!(hit, None);
             assert!(stats.range_evals <= 25, "{stats:?}");
+        }
+    }
+
+    /// Rays searched four at a time find what each finds alone, with the same counts:
+    /// every model (the packed operations and the lane-by-lane ones), every arithmetic
+    /// (the SIMD pack and the lane-by-lane one), rays that finish at once, early or late
+    /// (lanes refilled mid-search), and a last ray searched alone.
+    #[test]
+    fn packed_search_is_the_scalar_search() {
+        let mut seed = 0x2545_F491_4F6C_DD1Du64;
+        let mut rnd = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for pm in crate::models::PaperModel::ALL {
+            let m = pm.model();
+            let cam = crate::camera::Camera::try_new(m.view, 64, 64).unwrap();
+            let params = RayParams {
+                precision: Precision {
+                    abs: 1e-4 * (m.domain.max - m.domain.min).length(),
+                    rel: 0.0,
+                },
+                pruning: true,
+            };
+            let mut jobs = Vec::new();
+            for _ in 0..23 {
+                let (o, d) = cam.ray_at(64.0 * rnd(), 64.0 * rnd());
+                let Some((t0, t1)) = clip(o, d, &m.domain, 0.0) else {
+                    continue;
+                };
+                // A first piece of any length, the shortest ones resolved at once.
+                let split = t0 + (t1 - t0) * rnd().powi(6);
+                let resume = split + (t1 - split) * 0.5 * rnd();
+                let seg = Search {
+                    t0,
+                    split,
+                    resume,
+                    step: 0.0,
+                    t1,
+                };
+                jobs.push(RayJob { o, d, seg });
+            }
+            assert!(jobs.len() >= 9, "{}: {} rays", m.name, jobs.len());
+            for kind in crate::arith::ArithKind::ALL {
+                crate::with_arith!(kind, A => {
+                    let mut got = vec![None; jobs.len()];
+                    first_roots::<A, _>(&m, &params, &jobs, |k, hit, st| {
+                        assert!(got[k].is_none(), "ray {k} reported twice");
+                        got[k] = Some((hit, st));
+                    });
+                    let mut stack = Vec::new();
+                    for (k, j) in jobs.iter().enumerate() {
+                        let mut st = RayStats::default();
+                        let hit = first_root_scratch::<<A as Arithmetic>::Ray, _>(&m, j.o, j.d, j.seg, &params, &mut st, &mut stack);
+                        assert_eq!(got[k], Some((hit, st)), "{} {kind} ray {k}", m.name);
+                    }
+                });
+            }
         }
     }
 

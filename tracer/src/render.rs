@@ -7,7 +7,7 @@
 use crate::arith::ArithKind;
 use crate::camera::Camera;
 use crate::cull::{CullStats, Culler, Depths};
-use crate::ray::{clip, first_root, first_root_scratch, Precision, RayParams, RayStats, Search};
+use crate::ray::{clip, first_root, first_roots, Precision, RayJob, RayParams, RayStats, Search};
 use crate::shade::{self, Light, Material};
 use crate::shape::{Aabb, Model, Shape, View};
 use arith_core::Arithmetic;
@@ -320,7 +320,10 @@ fn render_tile<A: Arithmetic, S: Shape + ?Sized>(
     let mut rgb = opts.background.repeat(n);
     let mut depth = vec![f32::INFINITY; n];
     let mut st = RenderStats::default();
-    let mut stack = Vec::with_capacity(64);
+    // Rays are collected first (pixel, ray, where to search), then searched four at a
+    // time ([`first_roots`]).
+    let mut jobs: Vec<RayJob> = Vec::with_capacity(n);
+    let mut pixel_of: Vec<usize> = Vec::with_capacity(n);
     let mut trace = |i: u32, j: u32, depths: Depths| {
         let k = (j - j0) as usize * tw + (i - i0) as usize;
         st.rays += 1;
@@ -352,7 +355,6 @@ fn render_tile<A: Arithmetic, S: Shape + ?Sized>(
         if t0 > t1 {
             return;
         }
-        let mut rs = RayStats::default();
         let seg = Search {
             t0,
             split,
@@ -360,26 +362,8 @@ fn render_tile<A: Arithmetic, S: Shape + ?Sized>(
             step,
             t1,
         };
-        let hit = first_root_scratch::<A::Ray, S>(shape, o, d, seg, params, &mut rs, &mut stack);
-        st.range_evals += rs.range_evals;
-        st.pruned_empty += rs.pruned_empty;
-        st.point_evals += rs.point_evals;
-        let Some(t) = hit else {
-            return;
-        };
-        st.hits += 1;
-        st.range_evals_hit += rs.range_evals;
-        depth[k] = t as f32;
-        let p = o + d * t;
-        let step = params.precision.at(t).max(scale * 1e-7);
-        let n = shade::normal(shape, p, step);
-        st.point_evals += 6;
-        let mut in_shadow = false;
-        if opts.shadows {
-            in_shadow = shadowed::<A, S>(shape, p, n, light, opts, params, scale, step, &mut st);
-        }
-        let c = shade::shade(n, d, light, &opts.material, in_shadow);
-        rgb[k * 3..k * 3 + 3].copy_from_slice(&c);
+        jobs.push(RayJob { o, d, seg });
+        pixel_of.push(k);
     };
     let mut cs = CullStats::default();
     if opts.culling {
@@ -402,6 +386,28 @@ fn render_tile<A: Arithmetic, S: Shape + ?Sized>(
             }
         }
     }
+    first_roots::<A, S>(shape, params, &jobs, |ray, hit, rs| {
+        st.range_evals += rs.range_evals;
+        st.pruned_empty += rs.pruned_empty;
+        st.point_evals += rs.point_evals;
+        let Some(t) = hit else {
+            return;
+        };
+        let (k, RayJob { o, d, .. }) = (pixel_of[ray], jobs[ray]);
+        st.hits += 1;
+        st.range_evals_hit += rs.range_evals;
+        depth[k] = t as f32;
+        let p = o + d * t;
+        let step = params.precision.at(t).max(scale * 1e-7);
+        let n = shade::normal(shape, p, step);
+        st.point_evals += 6;
+        let mut in_shadow = false;
+        if opts.shadows {
+            in_shadow = shadowed::<A, S>(shape, p, n, light, opts, params, scale, step, &mut st);
+        }
+        let c = shade::shade(n, d, light, &opts.material, in_shadow);
+        rgb[k * 3..k * 3 + 3].copy_from_slice(&c);
+    });
     st.cell_evals = cs.cells_tested;
     st.cells_culled = cs.cells_culled;
     st.pixels_culled = cs.pixels_culled;

@@ -649,3 +649,55 @@ pub fn check_from_affine<R: Range>(default_cases: u32) {
     });
     stats.assert_informative(&name, 0.1);
 }
+
+/// A [`crate::pack::Pack`] computes, lane for lane, bit for bit what its scalar form
+/// computes: random expression trees (every operation, constants on either side) over
+/// four lanes of three inputs each, every input a range on the one ray symbol or in the
+/// error term, then moved by [`crate::pack::Pack::mul_add_lanes`] (`x m + c`, as a
+/// ray's coordinates are built), compared by their exact `Debug` text (shortest
+/// round-trip digits, so two forms print alike only when every field has the same bits,
+/// signed zeros included).
+pub fn check_pack<P: crate::pack::Pack>(default_cases: u32) {
+    use crate::pack::LANES;
+    let input = (range_tree(), any::<bool>(), small_const(), any_finite());
+    let lanes = proptest::collection::vec(proptest::collection::vec(input, 3), LANES);
+    run(
+        &format!("{}: packed lanes", <P::Lane as Range>::NAME),
+        default_cases,
+        (expr_strategy(6, 3), lanes),
+        |(e, lanes)| {
+            let form = |&((lo, hi), own, _, _): &((f64, f64), bool, f64, f64)| {
+                P::Lane::input(if own { 0 } else { usize::MAX }, lo, hi)
+            };
+            let forms: Vec<Vec<P::Lane>> =
+                lanes.iter().map(|l| l.iter().map(form).collect()).collect();
+            let scalar: Vec<Vec<P::Lane>> = (0..LANES)
+                .map(|k| {
+                    (0..3)
+                        .map(|i| forms[k][i].clone() * lanes[k][i].2 + lanes[k][i].3)
+                        .collect()
+                })
+                .collect();
+            let packed: Vec<P> = (0..3)
+                .map(|i| {
+                    P::pack(core::array::from_fn(|k| forms[k][i].clone())).mul_add_lanes(
+                        core::array::from_fn(|k| lanes[k][i].2),
+                        core::array::from_fn(|k| lanes[k][i].3),
+                    )
+                })
+                .collect();
+            let got = e.eval(&packed).unpack();
+            for (k, lane) in got.iter().enumerate() {
+                let want = e.eval(&scalar[k]);
+                prop_assert_eq!(
+                    format!("{lane:?}"),
+                    format!("{want:?}"),
+                    "lane {} of {:?}",
+                    k,
+                    e
+                );
+            }
+            Ok(())
+        },
+    );
+}
