@@ -304,7 +304,7 @@ pub fn hair<R: Real>(x: R, y: R, z: R) -> R {
     union(o.clone(), intersect(intersect(pattern, o + 2.0), y))
 }
 
-/// Sphere with trimming (our design, in the spirit of [PP04] "Trimming implicit surfaces"):
+/// Sphere with trimming (our design, in the spirit of \[PP04\] "Trimming implicit surfaces"):
 /// a thin spherical shell `(1 - r^2) \ (0.94 - r^2)` (thickness about 0.03) trimmed by the
 /// procedural gyroid band `0.3 - |sin 5x cos 5y + sin 5y cos 5z + sin 5z cos 5x|`, which
 /// leaves a lattice of thin ribbons on the sphere:
