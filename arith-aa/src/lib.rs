@@ -93,6 +93,7 @@ impl Arithmetic for AaArith {
     type Ray = Aa;
     type Cell = Aa;
     type RayPack = arith_core::pack::Lanes<Aa>;
+    type CellPack = arith_core::pack::Lanes<Aa>;
 }
 
 /// The smallest float `>= a + b`: `fl(a + b)` when TwoSum shows it exact or rounded up,

@@ -196,6 +196,8 @@ pub trait Arithmetic: Send + Sync + 'static {
     /// Four ray forms evaluated together ([`crate::pack`]): a SIMD form where the
     /// arithmetic has one, else `Lanes<Self::Ray>`.
     type RayPack: crate::pack::Pack<Lane = Self::Ray>;
+    /// Four cell forms evaluated together, as [`Arithmetic::RayPack`].
+    type CellPack: crate::pack::Pack<Lane = Self::Cell>;
 }
 
 impl Real for f64 {

@@ -56,6 +56,7 @@ impl Arithmetic for IaArith {
     type Ray = Interval;
     type Cell = Interval;
     type RayPack = arith_core::pack::Lanes<Interval>;
+    type CellPack = arith_core::pack::Lanes<Interval>;
 }
 
 impl Interval {

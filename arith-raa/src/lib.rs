@@ -53,6 +53,7 @@ impl Arithmetic for RaaArith {
     type Ray = Raa<1>;
     type Cell = Raa<3>;
     type RayPack = arith_core::pack::Lanes<Raa<1>>;
+    type CellPack = arith_core::pack::Lanes<Raa<3>>;
 }
 
 impl<const N: usize> Raa<N> {

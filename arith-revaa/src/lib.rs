@@ -28,7 +28,7 @@ use core::ops::{Add, Div, Mul, Neg, Sub};
 
 mod pack;
 use fp::{add_dir_down, add_dir_up, k_lin, k_mul, mid_rad, up_abs, up_rel};
-pub use pack::RevAa1x4;
+pub use pack::{RevAa1x4, RevAa3x4, RevAaX4};
 
 /// A revised affine form with `N` input symbols:
 /// `x0 + Σ xs[i] ε_i + [-e, e]`, `e >= 0` (`e = +inf` for the unbounded form).
@@ -49,6 +49,7 @@ impl Arithmetic for RevAaArith {
     type Ray = RevAa<1>;
     type Cell = RevAa<3>;
     type RayPack = RevAa1x4;
+    type CellPack = RevAa3x4;
 }
 
 impl<const N: usize> RevAa<N> {

@@ -1,4 +1,5 @@
-//! [`RevAa1x4`]: four ray forms `RevAa<1>` in SIMD registers, one lane each.
+//! [`RevAaX4`]: four revised affine forms in SIMD registers, one lane each: four ray
+//! forms ([`RevAa1x4`]) or four cell forms ([`RevAa3x4`]).
 //!
 //! The affine operations and the products (`+ - *`, `sqr`, constants) run as 4-lane
 //! vector instructions that perform, lane for lane, exactly the `f64` operations of the
@@ -16,13 +17,18 @@ use arith_core::Real;
 use core::ops::{Add, Div, Mul, Neg, Sub};
 use wide::{bytemuck, f64x4, i64x4};
 
-/// Four [`RevAa<1>`] forms, structure of arrays: centres, coefficients, error radii.
+/// Four [`RevAa<N>`] forms, structure of arrays: centres, coefficients, error radii.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RevAa1x4 {
+pub struct RevAaX4<const N: usize> {
     x0: f64x4,
-    x1: f64x4,
+    xs: [f64x4; N],
     e: f64x4,
 }
+
+/// Four ray forms ([`RevAa<1>`]).
+pub type RevAa1x4 = RevAaX4<1>;
+/// Four cell forms ([`RevAa<3>`]).
+pub type RevAa3x4 = RevAaX4<3>;
 
 #[inline(always)]
 fn splat(c: f64) -> f64x4 {
@@ -59,143 +65,156 @@ fn add_dir_up(a: f64x4, b: f64x4) -> f64x4 {
     t.simd_gt(splat(0.0)).select(step_up(s), s)
 }
 
-impl RevAa1x4 {
+impl<const N: usize> RevAaX4<N> {
     /// Lane by lane through the scalar form.
     #[inline(always)]
-    fn lanewise(&self, f: impl Fn(&RevAa<1>) -> RevAa<1>) -> Self {
+    fn lanewise(&self, f: impl Fn(&RevAa<N>) -> RevAa<N>) -> Self {
         Self::pack(self.unpack().map(|l| f(&l)))
     }
 
     #[inline(always)]
-    fn lanewise2(&self, o: &Self, f: impl Fn(&RevAa<1>, &RevAa<1>) -> RevAa<1>) -> Self {
+    fn lanewise2(&self, o: &Self, f: impl Fn(&RevAa<N>, &RevAa<N>) -> RevAa<N>) -> Self {
         let (a, b) = (self.unpack(), o.unpack());
         Self::pack(core::array::from_fn(|k| f(&a[k], &b[k])))
     }
+
+    /// The scalar `Mul<f64>` with the factor in lanes.
+    #[inline(always)]
+    fn mul_lanes(self, c: f64x4) -> Self {
+        let x0 = self.x0 * c;
+        let mut r = x0.abs();
+        let mut xs = self.xs;
+        for z in &mut xs {
+            *z *= c;
+            r += z.abs();
+        }
+        let s = c.abs() * self.e + splat(U) * r;
+        RevAaX4 {
+            x0,
+            xs,
+            e: up_abs(s, k_lin(N)),
+        }
+    }
+
+    /// The scalar `Add<f64>` with the constant in lanes.
+    #[inline(always)]
+    fn add_lanes(self, c: f64x4) -> Self {
+        let x0 = self.x0 + c;
+        RevAaX4 {
+            x0,
+            xs: self.xs,
+            e: up_rel(self.e + splat(U) * x0.abs(), 2),
+        }
+    }
 }
 
-impl Pack for RevAa1x4 {
-    type Lane = RevAa<1>;
+impl<const N: usize> Pack for RevAaX4<N> {
+    type Lane = RevAa<N>;
     #[inline(always)]
-    fn pack(l: [RevAa<1>; LANES]) -> Self {
-        RevAa1x4 {
+    fn pack(l: [RevAa<N>; LANES]) -> Self {
+        RevAaX4 {
             x0: f64x4::new(l.map(|v| v.x0)),
-            x1: f64x4::new(l.map(|v| v.xs[0])),
+            xs: core::array::from_fn(|i| f64x4::new(l.map(|v| v.xs[i]))),
             e: f64x4::new(l.map(|v| v.e)),
         }
+    }
+    #[inline(always)]
+    fn unpack(self) -> [RevAa<N>; LANES] {
+        let (x0, e) = (self.x0.to_array(), self.e.to_array());
+        let xs = self.xs.map(|c| c.to_array());
+        core::array::from_fn(|k| RevAa {
+            x0: x0[k],
+            xs: core::array::from_fn(|i| xs[i][k]),
+            e: e[k],
+        })
     }
     /// The scalar `Mul<f64>` then `Add<f64>`, with the constants in lanes.
     #[inline(always)]
     fn mul_add_lanes(self, m: [f64; LANES], c: [f64; LANES]) -> Self {
-        let (m, c) = (f64x4::new(m), f64x4::new(c));
-        let x0 = self.x0 * m;
-        let x1 = self.x1 * m;
-        let r = x0.abs() + x1.abs();
-        let e = up_abs(m.abs() * self.e + splat(U) * r, k_lin(1));
-        let x0 = x0 + c;
-        RevAa1x4 {
-            x0,
-            x1,
-            e: up_rel(e + splat(U) * x0.abs(), 2),
-        }
-    }
-    #[inline(always)]
-    fn unpack(self) -> [RevAa<1>; LANES] {
-        let (x0, x1, e) = (self.x0.to_array(), self.x1.to_array(), self.e.to_array());
-        core::array::from_fn(|k| RevAa {
-            x0: x0[k],
-            xs: [x1[k]],
-            e: e[k],
-        })
+        self.mul_lanes(f64x4::new(m)).add_lanes(f64x4::new(c))
     }
 }
 
-impl Add for RevAa1x4 {
+impl<const N: usize> Add for RevAaX4<N> {
     type Output = Self;
     #[inline(always)]
     fn add(self, y: Self) -> Self {
         let x0 = self.x0 + y.x0;
-        let s = self.e + y.e + splat(U) * x0.abs();
-        let x1 = self.x1 + y.x1;
-        let s = s + splat(U) * x1.abs();
-        RevAa1x4 {
+        let mut s = self.e + y.e + splat(U) * x0.abs();
+        let mut xs = self.xs;
+        for (z, b) in xs.iter_mut().zip(&y.xs) {
+            *z += *b;
+            s += splat(U) * z.abs();
+        }
+        RevAaX4 {
             x0,
-            x1,
-            e: up_rel(s, 4),
+            xs,
+            e: up_rel(s, N + 3),
         }
     }
 }
 
-impl Sub for RevAa1x4 {
+impl<const N: usize> Sub for RevAaX4<N> {
     type Output = Self;
     #[inline(always)]
     fn sub(self, y: Self) -> Self {
         let x0 = self.x0 - y.x0;
-        let s = self.e + y.e + splat(U) * x0.abs();
-        let x1 = self.x1 - y.x1;
-        let s = s + splat(U) * x1.abs();
-        RevAa1x4 {
+        let mut s = self.e + y.e + splat(U) * x0.abs();
+        let mut xs = self.xs;
+        for (z, b) in xs.iter_mut().zip(&y.xs) {
+            *z -= *b;
+            s += splat(U) * z.abs();
+        }
+        RevAaX4 {
             x0,
-            x1,
-            e: up_rel(s, 4),
+            xs,
+            e: up_rel(s, N + 3),
         }
     }
 }
 
-impl Neg for RevAa1x4 {
+impl<const N: usize> Neg for RevAaX4<N> {
     type Output = Self;
     #[inline(always)]
     fn neg(self) -> Self {
-        RevAa1x4 {
+        RevAaX4 {
             x0: -self.x0,
-            x1: -self.x1,
+            xs: self.xs.map(|c| -c),
             e: self.e,
         }
     }
 }
 
-impl Add<f64> for RevAa1x4 {
+impl<const N: usize> Add<f64> for RevAaX4<N> {
     type Output = Self;
     #[inline(always)]
     fn add(self, c: f64) -> Self {
-        let x0 = self.x0 + splat(c);
-        RevAa1x4 {
-            x0,
-            x1: self.x1,
-            e: up_rel(self.e + splat(U) * x0.abs(), 2),
-        }
+        self.add_lanes(splat(c))
     }
 }
 
-impl Sub<f64> for RevAa1x4 {
+impl<const N: usize> Sub<f64> for RevAaX4<N> {
     type Output = Self;
     #[inline(always)]
     fn sub(self, c: f64) -> Self {
         let x0 = self.x0 - splat(c);
-        RevAa1x4 {
+        RevAaX4 {
             x0,
-            x1: self.x1,
+            xs: self.xs,
             e: up_rel(self.e + splat(U) * x0.abs(), 2),
         }
     }
 }
 
-impl Mul<f64> for RevAa1x4 {
+impl<const N: usize> Mul<f64> for RevAaX4<N> {
     type Output = Self;
     #[inline(always)]
     fn mul(self, c: f64) -> Self {
-        let x0 = self.x0 * splat(c);
-        let x1 = self.x1 * splat(c);
-        let r = x0.abs() + x1.abs();
-        let s = splat(c.abs()) * self.e + splat(U) * r;
-        RevAa1x4 {
-            x0,
-            x1,
-            e: up_abs(s, k_lin(1)),
-        }
+        self.mul_lanes(splat(c))
     }
 }
 
-impl Div<f64> for RevAa1x4 {
+impl<const N: usize> Div<f64> for RevAaX4<N> {
     type Output = Self;
     #[inline(always)]
     fn div(self, c: f64) -> Self {
@@ -203,45 +222,66 @@ impl Div<f64> for RevAa1x4 {
             return Self::pack([RevAa::UNBOUNDED; LANES]);
         }
         let x0 = self.x0 / splat(c);
-        let x1 = self.x1 / splat(c);
-        let r = x0.abs() + x1.abs();
+        let mut r = x0.abs();
+        let mut xs = self.xs;
+        for z in &mut xs {
+            *z /= splat(c);
+            r += z.abs();
+        }
         let s = self.e / splat(c.abs()) + splat(U) * r;
-        RevAa1x4 {
+        RevAaX4 {
             x0,
-            x1,
-            e: up_abs(s, k_lin(1)),
+            xs,
+            e: up_abs(s, k_lin(N)),
         }
     }
 }
 
-/// `mul_forms` of the scalar form for `N = 1` (no cross terms), the same sums in the
-/// same order, zeros included (`0 + q` is not `q` for `q = -0`).
+/// The scalar `mul_forms` with its cross terms, the same sums in the same order, zeros
+/// included (`0 + q` is not `q` for `q = -0`). Where the scalar form skips the cross
+/// terms (each exactly 0), adding them changes no bit.
 #[inline(always)]
-fn mul_forms(x: RevAa1x4, y: RevAa1x4) -> RevAa1x4 {
+#[allow(clippy::needless_range_loop)] // several arrays indexed together
+fn mul_forms<const N: usize>(x: RevAaX4<N>, y: RevAaX4<N>) -> RevAaX4<N> {
     let zero = splat(0.0);
     let p0 = x.x0 * y.x0;
-    let q = x.x1 * y.x1;
-    let d = zero + q;
-    let diag = zero + q.abs();
-    let a = x.x0 * y.x1;
-    let b = x.x1 * y.x0;
-    let x1 = a + b;
-    let r = p0.abs() + (q.abs() + d.abs() + a.abs() + b.abs() + x1.abs());
-    let u = zero + x.x1.abs();
-    let v = zero + y.x1.abs();
+    let (mut d, mut diag, mut u, mut v) = (zero, zero, zero, zero);
+    let mut r = p0.abs();
+    let mut xs = [zero; N];
+    for i in 0..N {
+        let q = x.xs[i] * y.xs[i];
+        d += q;
+        diag += q.abs();
+        let a = x.x0 * y.xs[i];
+        let b = x.xs[i] * y.x0;
+        xs[i] = a + b;
+        r += q.abs() + d.abs() + a.abs() + b.abs() + xs[i].abs();
+        u += x.xs[i].abs();
+        v += y.xs[i].abs();
+    }
+    let mut off = zero;
+    for i in 0..N {
+        for j in i + 1..N {
+            let a = x.xs[i] * y.xs[j];
+            let b = x.xs[j] * y.xs[i];
+            let s = a + b;
+            off += s.abs();
+            r += a.abs() + b.abs() + s.abs();
+        }
+    }
     let hd = splat(0.5) * d;
     let x0 = p0 + hd;
     let r = r + (hd.abs() + x0.abs());
     let main =
-        x.e * y.e + y.e * (x.x0.abs() + u) + x.e * (y.x0.abs() + v) + splat(0.5) * diag + zero;
-    RevAa1x4 {
+        x.e * y.e + y.e * (x.x0.abs() + u) + x.e * (y.x0.abs() + v) + splat(0.5) * diag + off;
+    RevAaX4 {
         x0,
-        x1,
-        e: up_abs(main + splat(U) * r, k_mul(1)),
+        xs,
+        e: up_abs(main + splat(U) * r, k_mul(N)),
     }
 }
 
-impl Mul for RevAa1x4 {
+impl<const N: usize> Mul for RevAaX4<N> {
     type Output = Self;
     #[inline(always)]
     fn mul(self, y: Self) -> Self {
@@ -249,7 +289,7 @@ impl Mul for RevAa1x4 {
     }
 }
 
-impl Div for RevAa1x4 {
+impl<const N: usize> Div for RevAaX4<N> {
     type Output = Self;
     #[inline(always)]
     #[allow(clippy::suspicious_arithmetic_impl)]
@@ -258,24 +298,24 @@ impl Div for RevAa1x4 {
     }
 }
 
-impl Real for RevAa1x4 {
+impl<const N: usize> Real for RevAaX4<N> {
     fn constant(c: f64) -> Self {
-        RevAa1x4 {
+        RevAaX4 {
             x0: splat(c),
-            x1: splat(0.0),
+            xs: [splat(0.0); N],
             e: splat(0.0),
         }
     }
 
-    /// The scalar `sqr` for `N = 1`: both the product and the Chebyshev square, then
-    /// the same select.
+    /// The scalar `sqr`: the Chebyshev square where its gain survives and its bound is
+    /// finite, else `x * x` (both computed, then the same choice per lane).
     #[inline(always)]
     fn sqr(&self) -> Self {
         let x0 = self.x0;
-        let w = add_dir_up(self.e, self.x1.abs());
-        let s2 = splat(0.0) + self.x1 * self.x1;
+        let w = self.xs.iter().fold(self.e, |r, c| add_dir_up(r, c.abs()));
+        let s2 = self.xs.iter().fold(splat(0.0), |s, c| s + *c * *c);
         let m = x0.abs() + w;
-        let gain = (w * w - s2).simd_gt(splat(sqr_margin(1)) * (m * m) + splat(TINY));
+        let gain = (w * w - s2).simd_gt(splat(sqr_margin(N)) * (m * m) + splat(TINY));
         let prod = mul_forms(*self, *self);
         // `affine_round::cheb_sqr`.
         let p0 = x0 * x0;
@@ -283,14 +323,18 @@ impl Real for RevAa1x4 {
         let h = splat(0.5) * ww;
         let c0 = p0 + h;
         let tx0 = splat(2.0) * x0;
-        let z = tx0 * self.x1;
-        let r = p0.abs() + ww + c0.abs() + z.abs();
+        let mut r = p0.abs() + ww + c0.abs();
+        let mut zs = self.xs;
+        for z in &mut zs {
+            *z = tx0 * *z;
+            r += z.abs();
+        }
         let main = h + tx0.abs() * self.e;
-        let ce = up_abs(main + splat(U) * r, k_mul(1));
+        let ce = up_abs(main + splat(U) * r, k_mul(N));
         let ok = gain & ce.is_finite();
-        RevAa1x4 {
+        RevAaX4 {
             x0: ok.select(c0, prod.x0),
-            x1: ok.select(z, prod.x1),
+            xs: core::array::from_fn(|i| ok.select(zs[i], prod.xs[i])),
             e: ok.select(ce, prod.e),
         }
     }
@@ -333,4 +377,4 @@ impl Real for RevAa1x4 {
     }
 }
 
-arith_core::impl_f64_lhs_ops!(RevAa1x4);
+arith_core::impl_f64_lhs_ops!(<const N: usize> RevAaX4<N>);

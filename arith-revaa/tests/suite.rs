@@ -5,10 +5,10 @@ use arith_revaa::RevAa;
 arith_core::range_test_suite!(revaa1, RevAa<1>, affine = true);
 arith_core::range_test_suite!(revaa3, RevAa<3>, affine = true);
 
-/// The SIMD ray pack is the scalar ray form, lane for lane and bit for bit.
+/// The SIMD packs are the scalar ray and cell forms, lane for lane and bit for bit.
 #[test]
 fn pack_lanes_are_the_scalar_form() {
-    arith_core::testkit::checks::check_pack::<arith_revaa::RevAa1x4>(
-        arith_core::testkit::checks::CASES_TREE,
-    );
+    use arith_core::testkit::checks::{check_pack, CASES_TREE};
+    check_pack::<arith_revaa::RevAa1x4>(CASES_TREE);
+    check_pack::<arith_revaa::RevAa3x4>(CASES_TREE);
 }

@@ -652,22 +652,22 @@ pub fn check_from_affine<R: Range>(default_cases: u32) {
 
 /// A [`crate::pack::Pack`] computes, lane for lane, bit for bit what its scalar form
 /// computes: random expression trees (every operation, constants on either side) over
-/// four lanes of three inputs each, every input a range on the one ray symbol or in the
-/// error term, then moved by [`crate::pack::Pack::mul_add_lanes`] (`x m + c`, as a
+/// four lanes of three inputs each, every input a range on one of the form's symbols or
+/// in the error term, then moved by [`crate::pack::Pack::mul_add_lanes`] (`x m + c`, as a
 /// ray's coordinates are built), compared by their exact `Debug` text (shortest
 /// round-trip digits, so two forms print alike only when every field has the same bits,
 /// signed zeros included).
 pub fn check_pack<P: crate::pack::Pack>(default_cases: u32) {
     use crate::pack::LANES;
-    let input = (range_tree(), any::<bool>(), small_const(), any_finite());
+    let input = (range_tree(), 0usize..4, small_const(), any_finite());
     let lanes = proptest::collection::vec(proptest::collection::vec(input, 3), LANES);
     run(
         &format!("{}: packed lanes", <P::Lane as Range>::NAME),
         default_cases,
         (expr_strategy(6, 3), lanes),
         |(e, lanes)| {
-            let form = |&((lo, hi), own, _, _): &((f64, f64), bool, f64, f64)| {
-                P::Lane::input(if own { 0 } else { usize::MAX }, lo, hi)
+            let form = |&((lo, hi), i, _, _): &((f64, f64), usize, f64, f64)| {
+                P::Lane::input(if i < 3 { i } else { usize::MAX }, lo, hi)
             };
             let forms: Vec<Vec<P::Lane>> =
                 lanes.iter().map(|l| l.iter().map(form).collect()).collect();
