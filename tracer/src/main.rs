@@ -14,6 +14,22 @@ use tracer::output::{write_depth, write_png};
 use tracer::render::{render_kind, RenderOptions};
 use tracer::shape::{Aabb, Shape, View};
 
+/// `println!` that ends the process quietly when stdout has been closed (`tracer list |
+/// head -3`: the reader wanted no more) instead of panicking, and with exit code 2 and a
+/// message on any other write error.
+macro_rules! out {
+    ($($t:tt)*) => {{
+        use std::io::Write as _;
+        if let Err(e) = writeln!(std::io::stdout(), $($t)*) {
+            if e.kind() == std::io::ErrorKind::BrokenPipe {
+                std::process::exit(0);
+            }
+            eprintln!("error: cannot write to stdout: {e}");
+            std::process::exit(2);
+        }
+    }};
+}
+
 #[derive(Parser, Debug)]
 #[command(
     name = "tracer",
@@ -303,14 +319,16 @@ fn cmd_render(a: &RenderArgs) -> Result<(), String> {
             }
         );
     }
-    println!(
+    out!(
         "{name} {width}x{height} arith={kind} culling={} pruning={} shadows={}",
-        opts.culling, opts.pruning, opts.shadows
+        opts.culling,
+        opts.pruning,
+        opts.shadows
     );
-    println!("{}", res.stats);
-    println!("wrote {}", out.display());
+    out!("{}", res.stats);
+    out!("wrote {}", out.display());
     if let Some(d) = &a.depth {
-        println!("wrote {}", d.display());
+        out!("wrote {}", d.display());
     }
     Ok(())
 }
@@ -380,10 +398,10 @@ fn cmd_range(a: &RangeArgs) -> Result<(), String> {
                 )
             })
             .collect();
-        println!("[{}]", items.join(", "));
+        out!("[{}]", items.join(", "));
     } else {
         for (k, (lo, hi)) in rows {
-            println!("{:<6} [{lo:e}, {hi:e}]", k.name());
+            out!("{:<6} [{lo:e}, {hi:e}]", k.name());
         }
     }
     Ok(())
@@ -393,13 +411,18 @@ fn cmd_list() {
     for m in tracer::models::all() {
         let v = m.view;
         let d = m.domain;
-        println!("{}", m.name);
-        println!("    {}", m.description);
-        println!(
+        out!("{}", m.name);
+        out!("    {}", m.description);
+        out!(
             "    domain {},{},{},{},{},{}",
-            d.min.x, d.min.y, d.min.z, d.max.x, d.max.y, d.max.z
+            d.min.x,
+            d.min.y,
+            d.min.z,
+            d.max.x,
+            d.max.y,
+            d.max.z
         );
-        println!(
+        out!(
             "    view   --eye {:.3},{:.3},{:.3} --look-at {},{},{} --up {},{},{} --fov {}",
             v.eye.x,
             v.eye.y,

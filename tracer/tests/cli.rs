@@ -258,3 +258,27 @@ fn list_names_every_paper_model() {
     }
     assert!(s.contains("domain") && s.contains("--eye"));
 }
+
+/// A reader that closes the pipe early (`tracer list | head -1`) ends the output quietly:
+/// exit 0, no panic message.
+#[test]
+fn closed_stdout_is_not_a_panic() {
+    use std::process::Stdio;
+    for args in [
+        &["list"][..],
+        &["range", "--expr", "x", "--box", "0,0,0,1,1,1"][..],
+    ] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_tracer"))
+            .args(args)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("tracer runs");
+        // Close the reading end before the process writes.
+        drop(child.stdout.take());
+        let out = child.wait_with_output().expect("tracer ends");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{args:?}: {:?} {err}", out.status);
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+    }
+}
