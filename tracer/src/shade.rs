@@ -111,13 +111,19 @@ pub fn shade(
 
 /// Gamma-encodes a linear value in `[0, 1]` (clamped) to 8 bits: the first linear value
 /// of each 8-bit level, `((k - 0.5) / 255)^2.2`, tabled, and the level found from a
-/// second table (the level at each multiple of 1/4096, a lower bound) by stepping up
-/// while the next level starts at or below the value: exact, no `powf` per pixel, and
-/// mostly no step at all (a binary search over the 256 levels was 6% of a render). The
-/// first step is taken without a branch (a mispredicted loop test was a third of
-/// shading); more than one happens only below 2^-12 (dark values, rare when lit).
+/// second table by one branch-free step: exact, and no `powf` per pixel (a binary search
+/// over the 256 levels was 6% of a render). The second table holds the level at the
+/// start of each bucket of the value's bits (exponent and top 7 bits of the mantissa,
+/// values from 2^-21, below the first level's start, up to 1): a bucket is at most
+/// 2^-7 of its values wide, narrower than the levels are apart (at least 0.86% near 1,
+/// relatively more below), so at most one level starts inside it (the loop after the
+/// step never runs; it is there so that no value could ever get a level too low).
 fn to_u8(c: f64) -> u8 {
-    const BUCKETS: usize = 4096;
+    /// Bits of the exponent and mantissa kept: the top 7 of the mantissa.
+    const SHIFT: u32 = 52 - 7;
+    /// Buckets from 2^-21 up to 1.
+    const BUCKETS: usize = 21 << 7;
+    const BASE: u64 = (1.0f64 / (1u64 << 21) as f64).to_bits() >> SHIFT;
     struct Gamma {
         /// The 256 levels' first values and `+inf` past the last.
         starts: [f64; 257],
@@ -131,7 +137,7 @@ fn to_u8(c: f64) -> u8 {
         }
         let mut first = [0u8; BUCKETS];
         for (j, f) in first.iter_mut().enumerate() {
-            *f = level_by_search(&levels, j as f64 / BUCKETS as f64);
+            *f = level_by_search(&levels, f64::from_bits((BASE + j as u64) << SHIFT));
         }
         let mut starts = [f64::INFINITY; 257];
         starts[..256].copy_from_slice(&levels);
@@ -144,7 +150,14 @@ fn to_u8(c: f64) -> u8 {
     if c >= 1.0 {
         return 255;
     }
-    let mut k = g.first[((c * BUCKETS as f64) as usize).min(BUCKETS - 1)] as usize;
+    // Below 2^-21 (a wrapped index): level 0.
+    let Some(&k) = g
+        .first
+        .get(((c.to_bits() >> SHIFT).wrapping_sub(BASE)) as usize)
+    else {
+        return 0;
+    };
+    let mut k = k as usize;
     k += usize::from(g.starts[k + 1] <= c);
     while g.starts[k + 1] <= c {
         k += 1;
@@ -203,10 +216,30 @@ mod tests {
             cs.extend([v.next_down(), v, v.next_up()]);
         }
         cs.extend((0..=4096).map(|j| j as f64 / 4096.0));
+        // Every bucket's first value and the value before it.
+        let base = (1.0f64 / (1u64 << 21) as f64).to_bits() >> 45;
+        for j in 0..=(21u64 << 7) {
+            let v = f64::from_bits((base + j) << 45);
+            cs.extend([v.next_down(), v]);
+        }
         cs.extend([1e-300, 5e-324, 1e-7, 0.999_999_999, 1.0f64.next_down()]);
         for c in cs {
             assert_eq!(to_u8(c), level_by_search(&starts, c), "{c:e}");
         }
+        // At most one level starts inside a bucket (after its first value): one step
+        // always suffices.
+        for j in 0..(21u64 << 7) {
+            let (lo, hi) = (
+                f64::from_bits((base + j) << 45),
+                f64::from_bits((base + j + 1) << 45),
+            );
+            let inside = starts.iter().filter(|&&v| lo < v && v < hi).count();
+            assert!(
+                inside <= 1,
+                "bucket {j}: {inside} levels start in [{lo:e}, {hi:e})"
+            );
+        }
+        assert!(starts[1] > f64::from_bits(base << 45));
     }
 
     #[test]
