@@ -1,11 +1,16 @@
-//! Four ray forms evaluated together.
+//! Four forms evaluated together.
 //!
-//! A renderer traces many rays through the same model; one evaluation of the model over
-//! a [`Pack`] computes the ranges of four rays' segments at once. An arithmetic whose ray
-//! form fits SIMD registers implements [`Pack`] with vector instructions, lane for lane
-//! the same operations as its scalar form (so each lane is bit for bit the scalar
-//! result, and inherits its soundness); every other arithmetic uses [`Lanes`], which
+//! A renderer traces many rays (and tests many cells) through the same model; one
+//! evaluation of the model over a [`Pack`] computes the ranges of four rays' segments
+//! (or four cells' slices) at once. An arithmetic whose forms fit SIMD registers
+//! implements [`Pack`] with vector instructions, lane for lane the same operations as its
+//! scalar form (so each lane is bit for bit the scalar result, NaN signs and payloads
+//! aside, and inherits its soundness); every other arithmetic uses [`Lanes`], which
 //! applies the scalar operations lane by lane.
+//!
+//! A model evaluated over a pack must use the [`Real`] operations only: code that looks
+//! at the concrete type of its arguments does not know the pack types (the tracer asks
+//! such a shape whether it packs).
 
 use crate::{Range, Real};
 use core::ops::{Add, Div, Mul, Neg, Sub};

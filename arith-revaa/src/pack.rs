@@ -4,7 +4,9 @@
 //! The affine operations and the products (`+ - *`, `sqr`, constants) run as 4-lane
 //! vector instructions that perform, lane for lane, exactly the `f64` operations of the
 //! scalar form in the same order (no fused operations, the same selects), so each lane
-//! is bit for bit the scalar result and inherits its soundness proof. The rarer
+//! is bit for bit the scalar result (but for the sign and payload of a NaN, which no
+//! bound or test of a form reads: NaN fields make the whole line) and inherits its
+//! soundness proof. The rarer
 //! operations (`sqrt`, `exp`, `min`, ...) unpack, apply the scalar form and pack again.
 //! On a model of squares and products (the decocube) one packed evaluation costs about
 //! 1.6 scalar ones.

@@ -165,6 +165,12 @@ fn noise_at<F: Field3, R: Real>(f: &F, x: &R, z: &R, (a, s, y0): (f64, f64, f64)
 }
 
 impl Shape for GmModel {
+    /// The noise and blob models look at their arguments' types (points, known ranges,
+    /// duals); Mitchell's quartic is plain arithmetic.
+    fn packs(&self) -> bool {
+        matches!(self, GmModel::Mitchell)
+    }
+
     fn eval<R: Real>(&self, x: R, y: R, z: R) -> R {
         match *self {
             GmModel::Mitchell => {

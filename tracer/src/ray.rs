@@ -578,7 +578,8 @@ pub struct RayJob {
 
 /// [`first_root_scratch`] for many rays, four at a time: each step evaluates the
 /// segments asked for by up to four searches in one [`Arithmetic::RayPack`] evaluation
-/// (one scalar evaluation when a single search is left), and a finished search's slot
+/// (scalar evaluations when a single search is left, or when the shape does not
+/// [pack](Shape::packs)), and a finished search's slot
 /// takes the next ray. Calls `done(index, first root, counters)` once per ray, in the
 /// order the rays finish. The roots are those of [`first_root_scratch`], ray by ray:
 /// each lane of a pack is the scalar ray form's range.
@@ -603,6 +604,7 @@ pub fn first_roots<A: Arithmetic, S: Shape + ?Sized>(
     let mut slots: [Option<Slot>; LANES] = Default::default();
     let mut stacks: [Vec<(f64, f64)>; LANES] = core::array::from_fn(|_| Vec::with_capacity(64));
     let mut queue = 0..rays.len();
+    let packs = shape.packs();
     loop {
         for (slot, stack) in slots.iter_mut().zip(&mut stacks) {
             while slot.is_none() {
@@ -643,11 +645,12 @@ pub fn first_roots<A: Arithmetic, S: Shape + ?Sized>(
                 .or(slots[first].as_ref())
                 .map(|s| (&rays[s.ray], s.seg))
         };
-        let ranges: [Option<A::Ray>; LANES] = if n == 1 {
-            let (r, (a, b)) = seg_of(first).expect("an active slot");
-            let mut ranges: [Option<A::Ray>; LANES] = Default::default();
-            ranges[first] = Some(range_on_segment(shape, r.o, r.d, a, b));
-            ranges
+        let ranges: [Option<A::Ray>; LANES] = if n == 1 || !packs {
+            core::array::from_fn(|k| {
+                let s = slots[k].as_ref()?;
+                let (r, (a, b)) = (&rays[s.ray], s.seg);
+                Some(range_on_segment(shape, r.o, r.d, a, b))
+            })
         } else {
             // `ray_inputs` lane by lane: `t d + o`.
             let lanes: [(&RayJob, (f64, f64)); LANES] =
@@ -718,7 +721,8 @@ mod tests {
     }
 
     /// Rays searched four at a time find what each finds alone, with the same counts:
-    /// every model (the packed operations and the lane-by-lane ones), every arithmetic
+    /// every paper model (the packed operations and the lane-by-lane ones) and every
+    /// progressive-refinement model (noise: not packed), every arithmetic
     /// (the SIMD pack and the lane-by-lane one), rays that finish at once, early or late
     /// (lanes refilled mid-search), and a last ray searched alone.
     #[test]
@@ -730,8 +734,11 @@ mod tests {
             seed ^= seed << 17;
             (seed >> 11) as f64 / (1u64 << 53) as f64
         };
-        for pm in crate::models::PaperModel::ALL {
-            let m = pm.model();
+        let models = crate::models::PaperModel::ALL
+            .map(|m| m.model())
+            .into_iter()
+            .chain(crate::gm_models::all());
+        for m in models {
             let cam = crate::camera::Camera::try_new(m.view, 64, 64).unwrap();
             let params = RayParams {
                 precision: Precision {

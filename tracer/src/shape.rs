@@ -10,6 +10,15 @@ use glam::DVec3;
 /// [`arith_core::Range`], over operation counters and over dual numbers alike.
 pub trait Shape: Send + Sync {
     fn eval<R: Real>(&self, x: R, y: R, z: R) -> R;
+
+    /// Whether [`Shape::eval`] over a pack of four forms ([`arith_core::pack`]) gives,
+    /// lane by lane, what it gives over each form alone: true for code written with the
+    /// [`Real`] operations only. A shape that looks at the concrete type of its arguments
+    /// (noise over ranges, see [`crate::noise`]) does not know the pack types and says
+    /// false; the tracer then evaluates its forms one at a time.
+    fn packs(&self) -> bool {
+        true
+    }
 }
 
 /// An axis-aligned box.
@@ -62,6 +71,14 @@ impl Shape for AnyShape {
             AnyShape::Expr(t) => t.eval(x, y, z),
         }
     }
+
+    fn packs(&self) -> bool {
+        match self {
+            AnyShape::Paper(m) => m.packs(),
+            AnyShape::Gm(m) => m.packs(),
+            AnyShape::Expr(t) => t.packs(),
+        }
+    }
 }
 
 /// A shape with everything needed to render it without further flags.
@@ -83,5 +100,9 @@ pub struct Model {
 impl Shape for Model {
     fn eval<R: Real>(&self, x: R, y: R, z: R) -> R {
         self.shape.eval(x, y, z)
+    }
+
+    fn packs(&self) -> bool {
+        self.shape.packs()
     }
 }

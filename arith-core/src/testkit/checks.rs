@@ -656,7 +656,8 @@ pub fn check_from_affine<R: Range>(default_cases: u32) {
 /// in the error term, then moved by [`crate::pack::Pack::mul_add_lanes`] (`x m + c`, as a
 /// ray's coordinates are built), compared by their exact `Debug` text (shortest
 /// round-trip digits, so two forms print alike only when every field has the same bits,
-/// signed zeros included).
+/// signed zeros included; every NaN prints alike: a NaN's sign and payload, which no
+/// decision of a form reads, may differ between vector and scalar instructions).
 pub fn check_pack<P: crate::pack::Pack>(default_cases: u32) {
     use crate::pack::LANES;
     let input = (range_tree(), 0usize..4, small_const(), any_finite());
