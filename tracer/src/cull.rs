@@ -840,19 +840,21 @@ mod tests {
             let cam = Camera::new(m.view, w, h);
             let c = Culler::new(&cam, &m.domain);
             for kind in ArithKind::ALL {
-                let run = |shape: &dyn Fn(&mut CullStats, &mut dyn FnMut(u32, u32, Depths))| {
+                fn run<S: Shape>(
+                    c: &Culler,
+                    kind: ArithKind,
+                    shape: &S,
+                    rect: (u32, u32, u32, u32),
+                ) -> (Vec<(u32, u32, Depths)>, CullStats) {
                     let mut rays = Vec::new();
                     let mut stats = CullStats::default();
-                    shape(&mut stats, &mut |i, j, d| rays.push((j, i, d)));
-                    rays.sort_by(|a, b| (a.0, a.1).cmp(&(b.0, b.1)));
+                    let mut trace = |i, j, d| rays.push((j, i, d));
+                    crate::with_arith!(kind, A => c.traverse::<A, _, _>(shape, rect, &mut stats, &mut trace));
+                    rays.sort_by_key(|r| (r.0, r.1));
                     (rays, stats)
-                };
-                let packed = run(
-                    &|st, tr| crate::with_arith!(kind, A => c.traverse::<A, _, _>(&m, (0, 0, w, h), st, &mut |i, j, d| tr(i, j, d))),
-                );
-                let alone = run(
-                    &|st, tr| crate::with_arith!(kind, A => c.traverse::<A, _, _>(&OneByOne(&m), (0, 0, w, h), st, &mut |i, j, d| tr(i, j, d))),
-                );
+                }
+                let packed = run(&c, kind, &m, (0, 0, w, h));
+                let alone = run(&c, kind, &OneByOne(&m), (0, 0, w, h));
                 assert_eq!(packed, alone, "{} {kind}", m.name);
             }
         }
