@@ -160,20 +160,11 @@ impl<const N: usize> Add for RevAaX4<N> {
 
 impl<const N: usize> Sub for RevAaX4<N> {
     type Output = Self;
+    /// `x + (-y)`: IEEE subtraction is the sum with the negation, so these are the
+    /// scalar `Sub`'s operations.
     #[inline(always)]
     fn sub(self, y: Self) -> Self {
-        let x0 = self.x0 - y.x0;
-        let mut s = self.e + y.e + splat(U) * x0.abs();
-        let mut xs = self.xs;
-        for (z, b) in xs.iter_mut().zip(&y.xs) {
-            *z -= *b;
-            s += splat(U) * z.abs();
-        }
-        RevAaX4 {
-            x0,
-            xs,
-            e: up_rel(s, N + 3),
-        }
+        self + -y
     }
 }
 
@@ -199,14 +190,10 @@ impl<const N: usize> Add<f64> for RevAaX4<N> {
 
 impl<const N: usize> Sub<f64> for RevAaX4<N> {
     type Output = Self;
+    /// `x + (-c)`, as for [`Sub`].
     #[inline(always)]
     fn sub(self, c: f64) -> Self {
-        let x0 = self.x0 - splat(c);
-        RevAaX4 {
-            x0,
-            xs: self.xs,
-            e: up_rel(self.e + splat(U) * x0.abs(), 2),
-        }
+        self.add_lanes(splat(-c))
     }
 }
 

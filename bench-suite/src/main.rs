@@ -15,22 +15,6 @@ use std::process::ExitCode;
 use std::time::Duration;
 use tracer::models::PaperModel;
 
-/// `println!` that ends the process quietly when stdout has been closed (`tracer list |
-/// head -3`: the reader wanted no more) instead of panicking, and with exit code 2 and a
-/// message on any other write error.
-macro_rules! out {
-    ($($t:tt)*) => {{
-        use std::io::Write as _;
-        if let Err(e) = writeln!(std::io::stdout(), $($t)*) {
-            if e.kind() == std::io::ErrorKind::BrokenPipe {
-                std::process::exit(0);
-            }
-            eprintln!("error: cannot write to stdout: {e}");
-            std::process::exit(2);
-        }
-    }};
-}
-
 #[derive(Parser)]
 #[command(
     name = "bench-suite",
@@ -165,7 +149,7 @@ fn run(cli: Cli) -> Result<(), String> {
             // Ctrl-C: stop, mark the unmeasured cells, write what was measured, exit 130.
             o.cancel = Some(tracer::interrupt::cancel_flag());
             let report = table1::run(&o)?;
-            out!("{}", table1::markdown(&report));
+            tracer::out!("{}", table1::markdown(&report));
             eprintln!(
                 "wrote {}/table1.md, table1.csv, table1.png and the images",
                 o.out.display()
@@ -199,7 +183,7 @@ fn run(cli: Cli) -> Result<(), String> {
             };
             let models: Vec<_> = ms.iter().map(|m| m.model()).collect();
             let md = tightness::run(&models, &kinds, &s);
-            out!("{md}");
+            tracer::out!("{md}");
             write_out(&out, "tightness.md", &md)
         }
         Cmd::Scaling {
@@ -222,7 +206,7 @@ fn run(cli: Cli) -> Result<(), String> {
             o.kind = arith.parse()?;
             let pts = scaling::measure(&o)?;
             let md = scaling::markdown(&o, &pts);
-            out!("{md}");
+            tracer::out!("{md}");
             write_out(&out, "scaling.md", &md)
         }
         Cmd::Progressive {
@@ -239,7 +223,7 @@ fn run(cli: Cli) -> Result<(), String> {
             o.layers = layers;
             o.verbose = true;
             let report = progressive::run(&o)?;
-            out!("{}", progressive::markdown(&report));
+            tracer::out!("{}", progressive::markdown(&report));
             eprintln!(
                 "wrote {}/progressive.md, progressive.csv{}",
                 o.out.display(),

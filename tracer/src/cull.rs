@@ -333,8 +333,7 @@ impl Culler {
                     let Some(cell) = todo.pop() else { break };
                     let (i0, j0, i1, j1) = cell.rect;
                     let bundle = self.bundle(i0, j0, i1, j1);
-                    let width = (i1 - i0).max(j1 - j0) as f64 * self.pixel_angle;
-                    let mut narrowing = Narrowing::new(width, cell.s_range, cell.start);
+                    let mut narrowing = Narrowing::new(bundle.width, cell.s_range, cell.start);
                     match narrowing.run(self, &bundle, stats, None) {
                         Step::Eval(forms) => {
                             *slot = Some(Slot {
@@ -350,18 +349,10 @@ impl Culler {
                     }
                 }
             }
-            let mut active = [0; LANES];
-            let mut n = 0;
-            for (k, s) in slots.iter().enumerate() {
-                if s.is_some() {
-                    active[n] = k;
-                    n += 1;
-                }
-            }
-            if n == 0 {
+            let Some(first) = slots.iter().position(Option::is_some) else {
                 return;
-            }
-            let first = active[0];
+            };
+            let alone = slots.iter().flatten().count() == 1;
             // Lanes without a narrowing repeat the first one's slice (their results are
             // dropped).
             let forms_of = |k: usize| {
@@ -371,7 +362,7 @@ impl Culler {
                     .expect("an active slot")
                     .forms
             };
-            let ranges: [Option<A::Cell>; LANES] = if n == 1 || !packs {
+            let ranges: [Option<A::Cell>; LANES] = if alone || !packs {
                 core::array::from_fn(|k| {
                     let [x, y, z] = slots[k].as_ref()?.forms.clone();
                     Some(shape.eval(x, y, z))

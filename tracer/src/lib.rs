@@ -26,3 +26,20 @@ pub mod ray;
 pub mod render;
 pub mod shade;
 pub mod shape;
+
+/// `println!` for the binaries: ends the process quietly when stdout has been closed
+/// (`tracer list | head -3`: the reader wanted no more) instead of panicking, and with
+/// exit code 2 and a message on any other write error.
+#[macro_export]
+macro_rules! out {
+    ($($t:tt)*) => {{
+        use std::io::Write as _;
+        if let Err(e) = writeln!(std::io::stdout(), $($t)*) {
+            if e.kind() == std::io::ErrorKind::BrokenPipe {
+                std::process::exit(0);
+            }
+            eprintln!("error: cannot write to stdout: {e}");
+            std::process::exit(2);
+        }
+    }};
+}

@@ -14,22 +14,6 @@ use tracer::output::{write_depth, write_png};
 use tracer::render::{render_kind, RenderOptions};
 use tracer::shape::{Aabb, Shape, View};
 
-/// `println!` that ends the process quietly when stdout has been closed (`tracer list |
-/// head -3`: the reader wanted no more) instead of panicking, and with exit code 2 and a
-/// message on any other write error.
-macro_rules! out {
-    ($($t:tt)*) => {{
-        use std::io::Write as _;
-        if let Err(e) = writeln!(std::io::stdout(), $($t)*) {
-            if e.kind() == std::io::ErrorKind::BrokenPipe {
-                std::process::exit(0);
-            }
-            eprintln!("error: cannot write to stdout: {e}");
-            std::process::exit(2);
-        }
-    }};
-}
-
 #[derive(Parser, Debug)]
 #[command(
     name = "tracer",
@@ -319,16 +303,16 @@ fn cmd_render(a: &RenderArgs) -> Result<(), String> {
             }
         );
     }
-    out!(
+    tracer::out!(
         "{name} {width}x{height} arith={kind} culling={} pruning={} shadows={}",
         opts.culling,
         opts.pruning,
         opts.shadows
     );
-    out!("{}", res.stats);
-    out!("wrote {}", out.display());
+    tracer::out!("{}", res.stats);
+    tracer::out!("wrote {}", out.display());
     if let Some(d) = &a.depth {
-        out!("wrote {}", d.display());
+        tracer::out!("wrote {}", d.display());
     }
     Ok(())
 }
@@ -398,10 +382,10 @@ fn cmd_range(a: &RangeArgs) -> Result<(), String> {
                 )
             })
             .collect();
-        out!("[{}]", items.join(", "));
+        tracer::out!("[{}]", items.join(", "));
     } else {
         for (k, (lo, hi)) in rows {
-            out!("{:<6} [{lo:e}, {hi:e}]", k.name());
+            tracer::out!("{:<6} [{lo:e}, {hi:e}]", k.name());
         }
     }
     Ok(())
@@ -411,9 +395,9 @@ fn cmd_list() {
     for m in tracer::models::all() {
         let v = m.view;
         let d = m.domain;
-        out!("{}", m.name);
-        out!("    {}", m.description);
-        out!(
+        tracer::out!("{}", m.name);
+        tracer::out!("    {}", m.description);
+        tracer::out!(
             "    domain {},{},{},{},{},{}",
             d.min.x,
             d.min.y,
@@ -422,7 +406,7 @@ fn cmd_list() {
             d.max.y,
             d.max.z
         );
-        out!(
+        tracer::out!(
             "    view   --eye {:.3},{:.3},{:.3} --look-at {},{},{} --up {},{},{} --fov {}",
             v.eye.x,
             v.eye.y,

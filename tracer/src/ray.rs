@@ -625,18 +625,10 @@ pub fn first_roots<A: Arithmetic, S: Shape + ?Sized>(
                 }
             }
         }
-        let mut active = [0; LANES];
-        let mut n = 0;
-        for (k, s) in slots.iter().enumerate() {
-            if s.is_some() {
-                active[n] = k;
-                n += 1;
-            }
-        }
-        if n == 0 {
+        let Some(first) = slots.iter().position(Option::is_some) else {
             return;
-        }
-        let first = active[0];
+        };
+        let alone = slots.iter().flatten().count() == 1;
         // Lanes without a search repeat the first one's segment (their results are
         // dropped).
         let seg_of = |k: usize| {
@@ -645,7 +637,7 @@ pub fn first_roots<A: Arithmetic, S: Shape + ?Sized>(
                 .or(slots[first].as_ref())
                 .map(|s| (&rays[s.ray], s.seg))
         };
-        let ranges: [Option<A::Ray>; LANES] = if n == 1 || !packs {
+        let ranges: [Option<A::Ray>; LANES] = if alone || !packs {
             core::array::from_fn(|k| {
                 let s = slots[k].as_ref()?;
                 let (r, (a, b)) = (&rays[s.ray], s.seg);
@@ -662,8 +654,8 @@ pub fn first_roots<A: Arithmetic, S: Shape + ?Sized>(
             });
             shape.eval(x, y, z).unpack().map(Some)
         };
-        for &k in &active[..n] {
-            let (Some(s), Some(f)) = (slots[k].as_mut(), &ranges[k]) else {
+        for (k, f) in ranges.iter().enumerate() {
+            let (Some(s), Some(f)) = (slots[k].as_mut(), f) else {
                 continue;
             };
             match s
