@@ -1104,8 +1104,23 @@ fn trig_approx(t: Trig, a: f64, b: f64) -> Approx {
     }
     let m = mid(a, b);
     let h = 0.5 * (b - a);
+    // Extrema of f (inflections of its derivative) at `extremum + k*pi`.
+    let extremum = match t {
+        Trig::Sin => FRAC_PI_2,
+        Trig::Cos => 0.0,
+    };
     if h <= TAYLOR_MAX_H {
         if let Some(ap) = trig_taylor(t, a, b, m, h) {
+            // Around an extremum the Chebyshev slope is about 0 and the best delta is
+            // half the range; the Taylor remainder (`|f(xi)| <= 1`) is `O(h^4)` wider
+            // there, so the constant approximation of the range is narrower: take it.
+            if may_contain(a, b, extremum, PI) {
+                let (lo, hi) = range();
+                let fb = Approx::from_range(lo, hi);
+                if fb.delta < ap.delta {
+                    return fb;
+                }
+            }
             return ap;
         }
     }
@@ -1338,6 +1353,14 @@ mod tests {
             0.0,
             3.3325000000000336e-4,
         );
+        // Narrow around the maximum pi/2 (the Taylor path would be O(h^4) wider): the
+        // constant approximation of the range [sin(1.2191...), 1]. Found by
+        // `delta_at_most_half_the_range`.
+        let (a, b) = (1.2191931412375574, 1.9222052783827024);
+        let ap = sin(a, b);
+        let (lo, hi) = range_sin(a, b);
+        assert_eq!(ap, Approx::from_range(lo, hi));
+        assert!(ap.delta <= 0.5 * (1.0 - a.sin()) * (1.0 + 1e-12), "{ap:?}");
         // Wide with inflections: the mean-value bound is worse than the range [-1, 1].
         check(sin(-3.0, 3.0), 0.0, 0.0, 1.0);
         check(cos(0.0, 100.0), 0.0, 0.0, 1.0);
