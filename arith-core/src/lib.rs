@@ -61,6 +61,8 @@ pub mod approx;
 pub mod pack;
 pub mod rfunc;
 pub mod round;
+#[cfg(feature = "simd")]
+pub mod simd;
 #[cfg(feature = "testkit")]
 pub mod testkit;
 

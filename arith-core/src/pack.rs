@@ -5,7 +5,8 @@
 //! (or four cells' slices) at once. An arithmetic whose forms fit SIMD registers
 //! implements [`Pack`] with vector instructions, lane for lane the same operations as its
 //! scalar form (so each lane is bit for bit the scalar result, NaN signs and payloads
-//! aside, and inherits its soundness); every other arithmetic uses [`Lanes`], which
+//! aside, and inherits its soundness): the reduced affine forms share
+//! `simd::ReducedX4` (feature `simd`). Every other arithmetic uses [`Lanes`], which
 //! applies the scalar operations lane by lane.
 //!
 //! A model evaluated over a pack must use the [`Real`] operations only: code that looks

@@ -251,29 +251,37 @@ impl Real for f64 {
 
 /// Implements `f64 + T`, `f64 - T`, `f64 * T`, `f64 / T` for a concrete [`Real`] type in
 /// terms of its `T op f64` impls, so users of a concrete type can write `2.0 * x`.
-/// For a type with a const parameter: `impl_f64_lhs_ops!(<const N: usize> RevAa<N>);`
+/// For a type with a const parameter: `impl_f64_lhs_ops!(<const N: usize> RevAa<N>);`,
+/// and one more bounded type parameter:
+/// `impl_f64_lhs_ops!(<const N: usize, F: ReducedForm<N>> ReducedX4<N, F>);`
 #[macro_export]
 macro_rules! impl_f64_lhs_ops {
+    (<const $n:ident : $nt:ty, $p:ident : $b:path> $t:ty) => {
+        $crate::impl_f64_lhs_ops!(@impl [const $n: $nt, $p: $b] $t);
+    };
     (<$(const $n:ident : $nt:ty)?> $t:ty) => {
-        impl<$(const $n: $nt)?> ::core::ops::Add<$t> for f64 {
+        $crate::impl_f64_lhs_ops!(@impl [$(const $n: $nt)?] $t);
+    };
+    (@impl [$($g:tt)*] $t:ty) => {
+        impl<$($g)*> ::core::ops::Add<$t> for f64 {
             type Output = $t;
             fn add(self, rhs: $t) -> $t {
                 rhs + self
             }
         }
-        impl<$(const $n: $nt)?> ::core::ops::Sub<$t> for f64 {
+        impl<$($g)*> ::core::ops::Sub<$t> for f64 {
             type Output = $t;
             fn sub(self, rhs: $t) -> $t {
                 $crate::Real::rsub(rhs, self)
             }
         }
-        impl<$(const $n: $nt)?> ::core::ops::Mul<$t> for f64 {
+        impl<$($g)*> ::core::ops::Mul<$t> for f64 {
             type Output = $t;
             fn mul(self, rhs: $t) -> $t {
                 rhs * self
             }
         }
-        impl<$(const $n: $nt)?> ::core::ops::Div<$t> for f64 {
+        impl<$($g)*> ::core::ops::Div<$t> for f64 {
             type Output = $t;
             fn div(self, rhs: $t) -> $t {
                 $crate::Real::rdiv(rhs, self)

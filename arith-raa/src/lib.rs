@@ -9,7 +9,8 @@
 //!
 //! with `N` input symbols (`N = 1` for a ray, `N = 3` for a cell) and one accumulating
 //! symbol that collects every approximation error. The form is `Copy`, of fixed size and
-//! allocation-free.
+//! allocation-free. [`Raa1x4`] and [`Raa3x4`] hold four ray or cell forms in SIMD
+//! registers, each lane computed exactly as the scalar form.
 //!
 //! **Soundness note.** The paper's general operation (Section 3.3) sets the new
 //! accumulator to `|δ + α x_{n+1} + β y_{n+1}|`, i.e. it treats the accumulated errors of
@@ -34,6 +35,9 @@ use arith_core::{AffinePart, Arithmetic, Range, Real};
 use core::ops::{Add, Div, Mul, Neg, Sub};
 use fp::{add_dir_down, add_dir_up, k_lin, k_mul, mid_rad, up_abs, up_rel};
 
+mod pack;
+pub use pack::{Raa1x4, Raa3x4, RaaX4};
+
 /// A reduced affine form (AF1) with `N` input symbols:
 /// `x0 + Σ xs[i] ε_i + acc ε_{n+1}`, `acc >= 0` (`acc = +inf` for the unbounded form).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -52,8 +56,8 @@ impl Arithmetic for RaaArith {
     const LABEL: &'static str = "RAA*";
     type Ray = Raa<1>;
     type Cell = Raa<3>;
-    type RayPack = arith_core::pack::Lanes<Raa<1>>;
-    type CellPack = arith_core::pack::Lanes<Raa<3>>;
+    type RayPack = Raa1x4;
+    type CellPack = Raa3x4;
 }
 
 impl<const N: usize> Raa<N> {

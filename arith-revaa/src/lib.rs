@@ -10,8 +10,9 @@
 //! Only the input symbols are kept (`N` of them: `N = 1` for a ray, `N = 3` for a cell);
 //! every approximation error goes into the symmetric radius `e`. The form is `Copy`, of
 //! fixed size and allocation-free, so the hot path of a ray (`RevAa<1>`, three `f64`s)
-//! stays in registers. [`RevAa1x4`] holds four ray forms in SIMD registers, each lane
-//! computed exactly as the scalar form (the tracer searches four rays at once with it).
+//! stays in registers. [`RevAa1x4`] holds four ray forms in SIMD registers (and
+//! [`RevAa3x4`] four cell forms), each lane computed exactly as the scalar form (the
+//! tracer searches four rays, or narrows four cells, at once with them).
 //!
 //! Soundness: every operation bounds its own `f64` rounding errors and adds them to `e`
 //! (see the private `fp` module); non-affine operations use the shared
