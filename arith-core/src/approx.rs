@@ -1104,7 +1104,7 @@ fn trig_approx(t: Trig, a: f64, b: f64) -> Approx {
     }
     let m = mid(a, b);
     let h = 0.5 * (b - a);
-    // Extrema of f (inflections of its derivative) at `extremum + k*pi`.
+    // Extrema of f (zeros of its derivative) at `extremum + k*pi`.
     let extremum = match t {
         Trig::Sin => FRAC_PI_2,
         Trig::Cos => 0.0,

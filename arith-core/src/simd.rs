@@ -26,10 +26,16 @@ use wide::{bytemuck, i64x4};
 
 /// A scalar reduced affine form `x0 + Σ xs[i] εi ± e` whose affine operations are the
 /// shared ones of this module, with its own product and square in lanes.
-pub trait ReducedForm<const N: usize>: Range + Copy + PartialEq {
+///
+/// `parts`, `from_parts` and [`ReducedX4`]'s fields are the raw representation, for
+/// packing and for the lane operations: unlike the forms' checked constructors they do
+/// not refuse a negative radius `e` (which would describe no value at all, so a range
+/// test on it could say "no zero"). Build forms with the arithmetic's own constructors.
+pub trait ReducedForm<const N: usize>: Range + Copy {
     /// `(x0, xs, e)`.
     fn parts(&self) -> (f64, [f64; N], f64);
-    /// The form of these parts, as they are.
+    /// The form of these parts, as they are (`e` must not be negative; a NaN `e`, which
+    /// the operations can produce, is kept and reads as the whole line).
     fn from_parts(x0: f64, xs: [f64; N], e: f64) -> Self;
     /// Lane for lane, bit for bit, the scalar `x * y`.
     fn mul_x4(x: ReducedX4<N, Self>, y: ReducedX4<N, Self>) -> ReducedX4<N, Self>;
@@ -37,7 +43,8 @@ pub trait ReducedForm<const N: usize>: Range + Copy + PartialEq {
     fn sqr_x4(x: ReducedX4<N, Self>) -> ReducedX4<N, Self>;
 }
 
-/// Four forms `F`, structure of arrays: centres, coefficients, error radii.
+/// Four forms `F`, structure of arrays: centres, coefficients, error radii (raw: see
+/// [`ReducedForm`]; no radius may be negative).
 pub struct ReducedX4<const N: usize, F> {
     pub x0: f64x4,
     pub xs: [f64x4; N],
@@ -104,9 +111,10 @@ pub fn add_dir_up(a: f64x4, b: f64x4) -> f64x4 {
 }
 
 impl<const N: usize, F> ReducedX4<N, F> {
-    /// The forms of these parts, as they are.
+    /// The forms of these parts, as they are (no radius may be negative).
     #[inline(always)]
     pub fn new(x0: f64x4, xs: [f64x4; N], e: f64x4) -> Self {
+        debug_assert!(!e.simd_lt(splat(0.0)).any(), "negative radius {e:?}");
         ReducedX4 {
             x0,
             xs,

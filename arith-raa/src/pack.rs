@@ -27,6 +27,7 @@ impl<const N: usize> ReducedForm<N> for Raa<N> {
     }
     #[inline(always)]
     fn from_parts(x0: f64, xs: [f64; N], acc: f64) -> Self {
+        debug_assert!(acc >= 0.0 || acc.is_nan(), "negative radius {acc}");
         Raa { x0, xs, acc }
     }
 

@@ -29,6 +29,7 @@ impl<const N: usize> ReducedForm<N> for RevAa<N> {
     }
     #[inline(always)]
     fn from_parts(x0: f64, xs: [f64; N], e: f64) -> Self {
+        debug_assert!(e >= 0.0 || e.is_nan(), "negative radius {e}");
         RevAa { x0, xs, e }
     }
     #[inline(always)]
