@@ -84,10 +84,15 @@ impl std::ops::AddAssign for RayStats {
 /// `domain` (slab test), widened outward by a few ulps so rounding never cuts off a piece
 /// of the ray inside the box. `None` when the ray misses the box.
 pub fn clip(o: DVec3, d: DVec3, domain: &Aabb, tmin: f64) -> Option<(f64, f64)> {
+    clip_with(o, d, d.recip(), domain, tmin)
+}
+
+/// [`clip`] with `inv == d.recip()` given (computed for several rays at once).
+#[inline]
+pub fn clip_with(o: DVec3, d: DVec3, inv: DVec3, domain: &Aabb, tmin: f64) -> Option<(f64, f64)> {
     let mut t0 = f64::NEG_INFINITY;
     let mut t1 = f64::INFINITY;
     // One division per axis: `(lo - o) * (1/d)` is off by at most ~3 ulps, as covered.
-    let inv = d.recip();
     for k in 0..3 {
         let (ok, dk, lo, hi) = (o[k], d[k], domain.min[k], domain.max[k]);
         if dk == 0.0 {

@@ -7,7 +7,9 @@
 use crate::arith::ArithKind;
 use crate::camera::Camera;
 use crate::cull::{CullStats, Culler, Depths};
-use crate::ray::{clip, first_root, first_roots, Precision, RayJob, RayParams, RayStats, Search};
+use crate::ray::{
+    clip, clip_with, first_root, first_roots, Precision, RayJob, RayParams, RayStats, Search,
+};
 use crate::shade::{self, Light, Material};
 use crate::shape::{Aabb, Model, Shape, View};
 use arith_core::Arithmetic;
@@ -320,51 +322,10 @@ fn render_tile<A: Arithmetic, S: Shape + ?Sized>(
     let mut rgb = opts.background.repeat(n);
     let mut depth = vec![f32::INFINITY; n];
     let mut st = RenderStats::default();
-    // Rays are collected first (pixel, ray, where to search), then searched four at a
-    // time ([`first_roots`]).
-    let mut jobs: Vec<RayJob> = Vec::with_capacity(n);
-    let mut pixel_of: Vec<usize> = Vec::with_capacity(n);
-    let mut trace = |i: u32, j: u32, depths: Depths| {
-        let k = (j - j0) as usize * tw + (i - i0) as usize;
-        st.rays += 1;
-        let (o, d) = cam.ray(i, j);
-        let Some((t0, t1)) = clip(o, d, &opts.domain, 0.0) else {
-            return;
-        };
-        // Culling proved the ray root-free outside the depths `[s0, s1]` and inside
-        // `(split, resume)` (margin included); depth is `t (d . forward)`. Widened (the
-        // gap narrowed) by far more than the rounding.
-        let c = d.dot(cam.forward);
-        let Depths {
-            s0,
-            split,
-            resume,
-            step,
-            s1,
-        } = depths;
-        let (t0, t1, split, resume, step) = if c > 0.5 && s0.is_finite() && s1.is_finite() {
-            let ic = 1.0 / c;
-            let (a, b) = (s0 * ic, s1 * ic);
-            let m = (a.abs() + b.abs()) * 1e-12;
-            let split = split * ic;
-            let resume = (resume * ic - m).max(split);
-            (t0.max(a - m), t1.min(b + m), split, resume, step * ic)
-        } else {
-            (t0, t1, t1, t1, 0.0)
-        };
-        if t0 > t1 {
-            return;
-        }
-        let seg = Search {
-            t0,
-            split,
-            resume,
-            step,
-            t1,
-        };
-        jobs.push(RayJob { o, d, seg });
-        pixel_of.push(k);
-    };
+    // Rays are collected first (pixel, culling's depths), set up four at a time
+    // ([`Camera::rays4`]), then searched four at a time ([`first_roots`]).
+    let mut pending: Vec<(u32, u32, Depths)> = Vec::with_capacity(n);
+    let mut trace = |i: u32, j: u32, depths: Depths| pending.push((i, j, depths));
     let mut cs = CullStats::default();
     if opts.culling {
         culler.traverse::<A, S, _>(shape, rect, &mut cs, &mut trace);
@@ -383,6 +344,22 @@ fn render_tile<A: Arithmetic, S: Shape + ?Sized>(
                         s1,
                     },
                 );
+            }
+        }
+    }
+    st.rays += pending.len() as u64;
+    let mut jobs: Vec<RayJob> = Vec::with_capacity(pending.len());
+    let mut pixel_of: Vec<usize> = Vec::with_capacity(pending.len());
+    for chunk in pending.chunks(4) {
+        let last = chunk.len() - 1;
+        let set = cam.rays4(core::array::from_fn(|l| {
+            (chunk[l.min(last)].0, chunk[l.min(last)].1)
+        }));
+        for (&(i, j, depths), &(d, inv, ic)) in chunk.iter().zip(&set) {
+            let o = cam.eye;
+            if let Some(seg) = search_of(o, d, inv, d.dot(cam.forward), ic, depths, &opts.domain) {
+                jobs.push(RayJob { o, d, seg });
+                pixel_of.push((j - j0) as usize * tw + (i - i0) as usize);
             }
         }
     }
@@ -416,6 +393,51 @@ fn render_tile<A: Arithmetic, S: Shape + ?Sized>(
         depth,
         stats: st,
     }
+}
+
+/// Where to search the ray `o + t d` (`inv = d.recip()`, `c = d . forward`,
+/// `ic = 1 / c`): its piece inside the domain, narrowed to what culling left of it.
+/// `None` when nothing is left.
+#[allow(clippy::too_many_arguments)]
+fn search_of(
+    o: DVec3,
+    d: DVec3,
+    inv: DVec3,
+    c: f64,
+    ic: f64,
+    depths: Depths,
+    domain: &Aabb,
+) -> Option<Search> {
+    let (t0, t1) = clip_with(o, d, inv, domain, 0.0)?;
+    // Culling proved the ray root-free outside the depths `[s0, s1]` and inside
+    // `(split, resume)` (margin included); depth is `t (d . forward)`. Widened (the
+    // gap narrowed) by far more than the rounding.
+    let Depths {
+        s0,
+        split,
+        resume,
+        step,
+        s1,
+    } = depths;
+    let (t0, t1, split, resume, step) = if c > 0.5 && s0.is_finite() && s1.is_finite() {
+        let (a, b) = (s0 * ic, s1 * ic);
+        let m = (a.abs() + b.abs()) * 1e-12;
+        let split = split * ic;
+        let resume = (resume * ic - m).max(split);
+        (t0.max(a - m), t1.min(b + m), split, resume, step * ic)
+    } else {
+        (t0, t1, t1, t1, 0.0)
+    };
+    if t0 > t1 {
+        return None;
+    }
+    Some(Search {
+        t0,
+        split,
+        resume,
+        step,
+        t1,
+    })
 }
 
 /// Whether the segment from just off the surface at `p` towards the light holds a root.
