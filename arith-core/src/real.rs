@@ -235,11 +235,26 @@ impl Real for f64 {
     fn abs(&self) -> Self {
         f64::abs(*self)
     }
+    /// `f64::min`, but `min(-0, +0) = -0` in either order (as IEEE 754-2019's
+    /// `minimum`): `f64::min` returns either zero, even by operand order, so a model
+    /// rewritten with its operands swapped could change a bit.
     fn min(&self, other: &Self) -> Self {
-        f64::min(*self, *other)
+        let (a, b) = (*self, *other);
+        if a == b {
+            // Equal values have equal bits but for the zeros' signs: keep a set sign.
+            f64::from_bits(a.to_bits() | b.to_bits())
+        } else {
+            f64::min(a, b)
+        }
     }
+    /// `f64::max`, but `max(-0, +0) = +0` in either order (see [`Real::min`]).
     fn max(&self, other: &Self) -> Self {
-        f64::max(*self, *other)
+        let (a, b) = (*self, *other);
+        if a == b {
+            f64::from_bits(a.to_bits() & b.to_bits())
+        } else {
+            f64::max(a, b)
+        }
     }
     fn rsub(self, c: f64) -> Self {
         c - self

@@ -245,6 +245,34 @@ fn shared_values_are_computed_once() {
     assert_eq!(t.eval(1.0, 2.0, 3.0), 3.0);
 }
 
+/// `min(-0, +0)` is `-0` and `max(-0, +0)` is `+0` in either order, and a tape keeps
+/// `min`'s and `max`'s operand order (other `Real` types need not be symmetric in
+/// them), so a tape printed and parsed again gives the same bits. Found by
+/// `tape_print_parse_round_trip`: `min(-0.0, x * 0.0) * 0.0` came back as `+0`.
+#[test]
+fn min_and_max_of_signed_zeros() {
+    for (src, want) in [
+        ("min(-0.0, x)", -0.0),
+        ("min(x, -0.0)", -0.0),
+        ("max(-0.0, x)", 0.0),
+        ("max(x, -0.0)", 0.0),
+        ("min(-0.0, x * 0.0) * 0.0", -0.0),
+        ("min(x * 0.0, -0.0) * 0.0", -0.0),
+    ] {
+        let t = tape(src);
+        let v = t.eval(0.0, 0.0, 0.0);
+        assert!(same(v, want), "{src}: {v}\n{t}");
+        let back = tape(&t.to_formula());
+        assert!(
+            same(back.eval(0.0, 0.0, 0.0), want),
+            "{src} printed: {}",
+            t.to_formula()
+        );
+    }
+    // Written both ways they are two values, not one.
+    assert_eq!(count(&tape("min(x, y) + min(y, x)"), Op::Min), 2);
+}
+
 #[test]
 fn constants_fold_only_when_exact() {
     // Exact: one constant instruction.

@@ -109,11 +109,11 @@ impl Op {
         }
     }
 
+    /// Whether swapping the operands never changes a bit of the result, so that the
+    /// builder may order them to share `a op b` and `b op a`. Not `min`/`max`: for
+    /// `-0` and `+0` the `f64` result is whichever operand comes second.
     fn commutative(self) -> bool {
-        matches!(
-            self,
-            Op::Add | Op::Mul | Op::Min | Op::Max | Op::Intersect | Op::Union
-        )
+        matches!(self, Op::Add | Op::Mul | Op::Intersect | Op::Union)
     }
 }
 
