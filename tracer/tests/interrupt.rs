@@ -17,11 +17,18 @@ fn tmp(name: &str) -> PathBuf {
 /// Starts `tracer args`, sends SIGINT after `after`, and waits for it to exit (killing it
 /// and failing if it has not after 30 s, so a broken handler cannot hang the suite).
 fn interrupt(args: &[&str], after: Duration) -> Output {
-    interrupt_with_env(args, &[], after)
+    interrupt_when(args, &[], after, || true)
 }
 
-/// [`interrupt`] with extra environment variables for the child.
-fn interrupt_with_env(args: &[&str], env: &[(&str, &str)], after: Duration) -> Output {
+/// [`interrupt`] with extra environment variables for the child, signalled once `after`
+/// has passed and `ready()` holds (polled for at most 30 s more), so a slow machine
+/// cannot make the test interrupt before there is anything to keep.
+fn interrupt_when(
+    args: &[&str],
+    env: &[(&str, &str)],
+    after: Duration,
+    ready: impl Fn() -> bool,
+) -> Output {
     let child = Command::new(env!("CARGO_BIN_EXE_tracer"))
         .args(args)
         .envs(env.iter().copied())
@@ -29,6 +36,15 @@ fn interrupt_with_env(args: &[&str], env: &[(&str, &str)], after: Duration) -> O
         .stderr(Stdio::piped())
         .spawn()
         .expect("start tracer");
+    std::thread::sleep(after);
+    let waited = Instant::now();
+    while !ready() {
+        assert!(
+            waited.elapsed() < Duration::from_secs(30),
+            "tracer {args:?} was not ready within 30 s"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    }
     let pid = child.id().to_string();
     std::thread::sleep(after);
     let st = Command::new("kill")
@@ -132,8 +148,12 @@ fn render_interrupted_writes_the_finished_tiles() {
 fn headless_preview_interrupted_writes_the_refined_image() {
     let png = tmp("preview.png");
     let _ = std::fs::remove_file(&png);
+    let snaps = tmp("snapshots");
+    let _ = std::fs::remove_dir_all(&snaps);
+    std::fs::create_dir_all(&snaps).unwrap();
     // Refining this hypertexture takes tens of seconds at this size; its coarse levels
-    // cover the whole image within a fraction of a second.
+    // cover the whole image within a fraction of a second (signalled once the first
+    // level's snapshot is written).
     let args = [
         "preview",
         "hypertexture-3",
@@ -142,10 +162,13 @@ fn headless_preview_interrupted_writes_the_refined_image() {
         "900",
         "--height",
         "900",
+        "--snapshots",
+        snaps.to_str().unwrap(),
         "--out",
         png.to_str().unwrap(),
     ];
-    let out = interrupt(&args, Duration::from_millis(800));
+    let first = snaps.join("level-00.png");
+    let out = interrupt_when(&args, &[], Duration::from_millis(800), || first.exists());
     let err = String::from_utf8_lossy(&out.stderr);
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert_eq!(out.status.code(), Some(130), "stderr: {err}");
@@ -178,7 +201,7 @@ fn start_xvfb() -> Option<(String, std::process::Child)> {
     for k in 0..20 {
         let display = format!(":{}", 100 + (std::process::id() + 53 * k) % 900);
         let mut child = Command::new("Xvfb")
-            .args([&display, "-screen", "0", "640x480x24", "-nolisten", "tcp"])
+            .args([&display, "-screen", "0", "1280x1024x24", "-nolisten", "tcp"])
             .stdout(Stdio::null())
             .stderr(Stdio::null())
             .spawn()
@@ -203,13 +226,24 @@ fn window_preview_interrupted_writes_the_refined_image() {
         "preview",
         "hypertexture-3",
         "--width",
-        "500",
+        "900",
         "--height",
-        "400",
+        "900",
         "--out",
         png.to_str().unwrap(),
     ];
-    let out = interrupt_with_env(&args, &[("DISPLAY", &display)], Duration::from_millis(1500));
+    // Signalled once a checkpoint (every few seconds) holds refined pixels; removed then,
+    // so the image found afterwards is the one written on the interrupt.
+    let refined = || {
+        let ok = image::open(&png).is_ok_and(|i| shaded_pixels(&i.to_rgb8()) > 0);
+        ok && std::fs::remove_file(&png).is_ok()
+    };
+    let out = interrupt_when(
+        &args,
+        &[("DISPLAY", &display)],
+        Duration::from_millis(1500),
+        refined,
+    );
     let _ = xvfb.kill();
     let _ = xvfb.wait();
     let stdout = String::from_utf8_lossy(&out.stdout);
@@ -223,7 +257,7 @@ fn window_preview_interrupted_writes_the_refined_image() {
     let img = image::open(&png)
         .expect("refined-so-far PNG decodes")
         .to_rgb8();
-    assert_eq!(img.dimensions(), (500, 400));
+    assert_eq!(img.dimensions(), (900, 900));
     assert!(
         shaded_pixels(&img) > 0,
         "nothing refined in the written image"
