@@ -1098,9 +1098,13 @@ fn trig_approx(t: Trig, a: f64, b: f64) -> Approx {
         return Approx::ENTIRE;
     }
     let range = || t.range(a, b);
-    if a == b || !(a.abs() <= TRIG_MAX_ARG && b.abs() <= TRIG_MAX_ARG) {
+    // The constant approximation of the rigorous range.
+    let fallback = || {
         let (lo, hi) = range();
-        return Approx::from_range(lo, hi);
+        Approx::from_range(lo, hi)
+    };
+    if a == b || !(a.abs() <= TRIG_MAX_ARG && b.abs() <= TRIG_MAX_ARG) {
+        return fallback();
     }
     let m = mid(a, b);
     let h = 0.5 * (b - a);
@@ -1115,8 +1119,7 @@ fn trig_approx(t: Trig, a: f64, b: f64) -> Approx {
             // half the range; the Taylor remainder (`|f(xi)| <= 1`) is `O(h^4)` wider
             // there, so the constant approximation of the range is narrower: take it.
             if may_contain(a, b, extremum, PI) {
-                let (lo, hi) = range();
-                let fb = Approx::from_range(lo, hi);
+                let fb = fallback();
                 if fb.delta < ap.delta {
                     return fb;
                 }
@@ -1135,10 +1138,6 @@ fn trig_approx(t: Trig, a: f64, b: f64) -> Approx {
     let inflection = match t {
         Trig::Sin => 0.0,
         Trig::Cos => FRAC_PI_2,
-    };
-    let fallback = || {
-        let (lo, hi) = range();
-        Approx::from_range(lo, hi)
     };
     if may_contain(a, b, inflection, PI) {
         // Neither convex nor concave: mean-value form g(x) ∈ g(m) + (f'([a,b]) - alpha)(x - m),

@@ -95,11 +95,12 @@ impl Camera {
     }
 
     /// [`Camera::ray`] for four pixels at once, with what setting up their searches
-    /// needs: `(direction, its reciprocal, 1 / (direction . forward))` per pixel, each bit
-    /// for bit the scalar `ray(i, j).1`, `.recip()` and `1.0 / d.dot(forward)` (the same
+    /// needs: `(direction, its reciprocal, direction . forward, 1 / (direction . forward))`
+    /// per pixel, each bit for bit the scalar `ray(i, j).1`, `.recip()`, `.dot(forward)`
+    /// and `1.0 / d.dot(forward)` (the same
     /// IEEE operations; the square roots and divisions run in SIMD lanes, where they
     /// were an eighth of a cheap model's render).
-    pub fn rays4(&self, pixels: [(u32, u32); 4]) -> [(DVec3, DVec3, f64); 4] {
+    pub fn rays4(&self, pixels: [(u32, u32); 4]) -> [(DVec3, DVec3, f64, f64); 4] {
         use wide::f64x4;
         let raw = pixels.map(|(i, j)| self.raw_dir(i as f64 + 0.5, j as f64 + 0.5));
         // `DVec3::normalize`: `v * (1 / sqrt(v . v))`.
@@ -112,8 +113,9 @@ impl Camera {
             recip(d.map(|v| v.y)),
             recip(d.map(|v| v.z)),
         );
-        let ic = recip(d.map(|v| v.dot(self.forward)));
-        core::array::from_fn(|l| (d[l], DVec3::new(ix[l], iy[l], iz[l]), ic[l]))
+        let c = d.map(|v| v.dot(self.forward));
+        let ic = recip(c);
+        core::array::from_fn(|l| (d[l], DVec3::new(ix[l], iy[l], iz[l]), c[l], ic[l]))
     }
 
     /// Angular size of one pixel (vertical), in radians-ish units of the image plane at
@@ -176,10 +178,11 @@ mod tests {
                 (0..h).flat_map(|j| (0..w).map(move |i| (i, j))).collect();
             for chunk in pixels.chunks(4) {
                 let four = core::array::from_fn(|l| chunk[l.min(chunk.len() - 1)]);
-                for (&(i, j), &(d, inv, ic)) in chunk.iter().zip(&cam.rays4(four)) {
+                for (&(i, j), &(d, inv, c, ic)) in chunk.iter().zip(&cam.rays4(four)) {
                     let (_, e) = cam.ray(i, j);
                     assert_eq!(bits(d), bits(e), "pixel ({i}, {j})");
                     assert_eq!(bits(inv), bits(e.recip()), "pixel ({i}, {j})");
+                    assert_eq!(c.to_bits(), e.dot(cam.forward).to_bits());
                     assert_eq!(ic.to_bits(), (1.0 / e.dot(cam.forward)).to_bits());
                     checked += 1;
                 }
@@ -188,7 +191,7 @@ mod tests {
         assert_eq!(checked, 8 + 35 + 33 * 17 + 1);
         // The centre of a straight view: its direction has exact zeros.
         let cam = Camera::new(view(), 7, 5);
-        let (d, inv, _) = cam.rays4([(3, 2); 4])[0];
+        let (d, inv, _, _) = cam.rays4([(3, 2); 4])[0];
         assert_eq!((d.x, d.y), (0.0, 0.0));
         assert!(inv.x.is_infinite() && inv.y.is_infinite());
     }

@@ -355,9 +355,9 @@ fn render_tile<A: Arithmetic, S: Shape + ?Sized>(
         let set = cam.rays4(core::array::from_fn(|l| {
             (chunk[l.min(last)].0, chunk[l.min(last)].1)
         }));
-        for (&(i, j, depths), &(d, inv, ic)) in chunk.iter().zip(&set) {
+        for (&(i, j, depths), &(d, inv, c, ic)) in chunk.iter().zip(&set) {
             let o = cam.eye;
-            if let Some(seg) = search_of(o, d, inv, d.dot(cam.forward), ic, depths, &opts.domain) {
+            if let Some(seg) = search_of(o, d, inv, c, ic, depths, &opts.domain) {
                 jobs.push(RayJob { o, d, seg });
                 pixel_of.push((j - j0) as usize * tw + (i - i0) as usize);
             }
