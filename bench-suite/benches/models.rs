@@ -11,10 +11,11 @@ use std::hint::black_box;
 use std::time::Duration;
 use tracer::arith::ArithKind;
 use tracer::camera::Camera;
+use tracer::models::Model;
 use tracer::models::PaperModel;
-use tracer::ray::{clip, first_root, RayParams, RayStats};
 use tracer::render::RenderOptions;
-use tracer::shape::{Model, Shape};
+use tracer::search::ray::{clip, first_root, RayParams, RayStats};
+use tracer::shape::Shape;
 
 fn cell_of(m: &Model) -> [(f64, f64); 3] {
     let (lo, hi) = (m.domain.min.to_array(), m.domain.max.to_array());

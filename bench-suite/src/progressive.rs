@@ -9,8 +9,8 @@
 use crate::chart::{self, Bar, Group};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+use tracer::models::Model;
 use tracer::progressive::BenchRow;
-use tracer::shape::Model;
 
 /// The paper's resolution for Table 1 and Figs. 5-7 (Section 4: "800x800 pixels").
 pub const DEFAULT_SIZE: u32 = 800;
@@ -99,10 +99,10 @@ pub fn paper_cell(model: &str, method: &str, size: u32) -> Option<PaperCell> {
     }
 }
 
-/// Looks up comma-separated model names among [`tracer::gm_models::all`], keeping the
+/// Looks up comma-separated model names among [`tracer::models::progressive::all`], keeping the
 /// given order and dropping repeats.
 pub fn parse_models(s: &str) -> Result<Vec<Model>, String> {
-    let all = tracer::gm_models::all();
+    let all = tracer::models::progressive::all();
     let mut out: Vec<Model> = Vec::new();
     for name in s.split(',').map(str::trim).filter(|n| !n.is_empty()) {
         let m = all
@@ -184,11 +184,11 @@ pub fn run(o: &Options) -> Result<Report, String> {
     if o.size == 0 || o.size > 16384 {
         return Err(format!("--size {} must be between 1 and 16384", o.size));
     }
-    if o.layers > u32::from(tracer::gm_models::MAX_LAYERS) {
+    if o.layers > u32::from(tracer::models::progressive::MAX_LAYERS) {
         return Err(format!(
             "--layers {} must be at most {}",
             o.layers,
-            tracer::gm_models::MAX_LAYERS
+            tracer::models::progressive::MAX_LAYERS
         ));
     }
     std::fs::create_dir_all(&o.out)

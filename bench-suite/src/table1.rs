@@ -451,7 +451,7 @@ pub fn run(opts: &Options) -> Result<Report, String> {
                     c.cell_evals = res.stats.cell_evals;
                     c.hits = res.stats.hits;
                     let path = opts.out.join(format!("{}-{}.png", m.name(), kind.name()));
-                    tracer::output::write_png(&path, res.width, res.height, &res.rgb)?;
+                    tracer::render::output::write_png(&path, res.width, res.height, &res.rgb)?;
                     if !res.stats.cut {
                         masks[k] = Some(res.hit);
                     }
@@ -535,7 +535,7 @@ pub fn ray_changes_sign(m: PaperModel, (w, h): (u32, u32), i: u32, j: u32) -> bo
     let model = m.model();
     let cam = tracer::camera::Camera::new(model.view, w, h);
     let (o, d) = cam.ray(i, j);
-    let Some((t0, t1)) = tracer::ray::clip(o, d, &model.domain, 0.0) else {
+    let Some((t0, t1)) = tracer::search::ray::clip(o, d, &model.domain, 0.0) else {
         return false;
     };
     let (mut pos, mut neg) = (false, false);

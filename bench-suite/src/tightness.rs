@@ -304,7 +304,7 @@ fn fmt_ratio(r: &Ratio) -> String {
 }
 
 /// Runs the tightness study over `models` and renders it as Markdown.
-pub fn run(models: &[tracer::shape::Model], kinds: &[ArithKind], s: &Settings) -> String {
+pub fn run(models: &[tracer::models::Model], kinds: &[ArithKind], s: &Settings) -> String {
     let mut out = String::new();
     out.push_str("## Range tightness: computed width / sampled true width, mean (median)\n\n");
     out.push_str(&format!(

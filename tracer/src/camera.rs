@@ -72,7 +72,7 @@ impl Camera {
 
     /// The un-normalised direction `forward + dx*right + dy*up'` through continuous pixel
     /// coordinates `(px, py)`. Its component along `forward` is exactly 1 (up to rounding),
-    /// which [`crate::cull`] uses: distance along `forward` parametrises a bundle.
+    /// which [`crate::search::cull`] uses: distance along `forward` parametrises a bundle.
     #[inline]
     pub fn raw_dir(&self, px: f64, py: f64) -> DVec3 {
         let w = self.width as f64;

@@ -1,30 +1,23 @@
 //! # tracer: reliable ray casting of implicit surfaces, generic over [`arith_core::Range`]
 //!
-//! Layers (shape → evaluator → renderer):
-//! - [`shape`]: the [`shape::Shape`] trait (a function written once, generic over
-//!   [`arith_core::Real`]) and [`shape::Model`] (a shape with its domain box and view).
-//! - [`models`]: the paper's Appendix A models; [`gm_models`]: the progressive-refinement
-//!   paper's models; [`expr`]: formulas parsed from text into a tape.
-//! - [`arith`]: the one list of arithmetics the CLI, the tests and the benches iterate over.
-//! - [`camera`], [`ray`] (Algorithm 1), [`cull`] (Algorithm 2), [`shade`], [`render`],
-//!   [`output`] (PNG, depth as NPY/EXR).
-//! - [`lipschitz`], [`progressive`], [`noise`]: the second paper's Lipschitz ray casters,
-//!   cone tracing and progressive refinement previewer.
+//! Layers, every import pointing down:
+//! - [`arith`]: the one list of arithmetics every command, test and bench iterates over;
+//! - [`shape`] and [`camera`]: the [`shape::Shape`] trait (a function written once,
+//!   generic over [`arith_core::Real`]), boxes, views and rays;
+//! - [`models`]: the model sources (the papers' models, formulas) and their one registry;
+//! - [`search`]: Algorithm 1 ([`search::ray`]), Algorithm 2 ([`search::cull`]) and the
+//!   Lipschitz casters ([`search::lipschitz`]);
+//! - renderers: the reliable tracer ([`render`], with shading and output files) and the
+//!   progressive previewer ([`progressive`], cone tracing);
+//! - the `tracer` binary (feature `cli`) on top; [`interrupt`] stops long work on Ctrl-C.
 
 pub mod arith;
 pub mod camera;
-pub mod cull;
-pub mod expr;
-pub mod gm_models;
 pub mod interrupt;
-pub mod lipschitz;
 pub mod models;
-pub mod noise;
-pub mod output;
 pub mod progressive;
-pub mod ray;
 pub mod render;
-pub mod shade;
+pub mod search;
 pub mod shape;
 
 /// `println!` for the binaries: ends the process quietly when stdout has been closed

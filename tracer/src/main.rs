@@ -10,7 +10,7 @@ use glam::DVec3;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use tracer::arith::ArithKind;
-use tracer::output::{write_depth, write_png};
+use tracer::render::output::{write_depth, write_png};
 use tracer::render::{render_kind, RenderOptions};
 use tracer::shape::{Aabb, Shape, View};
 
@@ -204,8 +204,8 @@ fn cmd_render(a: &RenderArgs) -> Result<(), String> {
         .map(|s| parse_box("--domain", s))
         .transpose()?;
     enum Target {
-        Model(Box<tracer::shape::Model>),
-        Expr(tracer::expr::Tape),
+        Model(Box<tracer::models::Model>),
+        Expr(tracer::models::formula::Tape),
     }
     let (target, name, domain, mut view) = match (&a.model, &a.expr) {
         (Some(_), Some(_)) => return Err("give either a MODEL or --expr, not both".into()),
@@ -220,7 +220,7 @@ fn cmd_render(a: &RenderArgs) -> Result<(), String> {
             (Target::Model(Box::new(model)), name, domain, view)
         }
         (None, Some(f)) => {
-            let tape = tracer::expr::parse(f).map_err(|e| format!("--expr: {e}"))?;
+            let tape = tracer::models::formula::parse(f).map_err(|e| format!("--expr: {e}"))?;
             let domain = domain_override.unwrap_or(Aabb::cube(2.0));
             (
                 Target::Expr(tape),
@@ -351,7 +351,7 @@ fn json_num(v: f64) -> String {
 }
 
 fn cmd_range(a: &RangeArgs) -> Result<(), String> {
-    let tape = tracer::expr::parse(&a.expr).map_err(|e| format!("--expr: {e}"))?;
+    let tape = tracer::models::formula::parse(&a.expr).map_err(|e| format!("--expr: {e}"))?;
     let b = parse_box("--box", &a.bbox)?;
     let kinds: Vec<ArithKind> = if a.arith.eq_ignore_ascii_case("all") {
         ArithKind::ALL.to_vec()

@@ -6,7 +6,7 @@ use arith_core::rfunc::{intersect, subtract, union};
 use arith_core::{Range, Real};
 use proptest::prelude::*;
 use proptest::sample::select;
-use tracer::expr::{
+use tracer::models::formula::{
     parse, parse_program, BinOp, Binding, Expr, Func, Op, ParseError, Program, Tape, Var,
     MAX_TREE_DEPTH,
 };

@@ -12,8 +12,8 @@ use arith_core::Real;
 use glam::DVec3;
 use tracer::arith::ArithKind;
 use tracer::camera::Camera;
-use tracer::ray::clip;
 use tracer::render::{render_kind, RenderOptions, RenderResult};
+use tracer::search::ray::clip;
 use tracer::shape::{Aabb, Shape, View};
 
 const W: u32 = 48;

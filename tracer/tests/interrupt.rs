@@ -6,7 +6,7 @@
 use std::path::PathBuf;
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
-use tracer::shade::BACKGROUND;
+use tracer::render::shade::BACKGROUND;
 
 fn tmp(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("tracer-interrupt-test-{}", std::process::id()));

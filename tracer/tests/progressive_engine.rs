@@ -1,13 +1,14 @@
 //! Engine tests for the progressive refinement previewer (headless).
 
 use glam::DVec3;
-use tracer::gm_models::GmModel;
-use tracer::lipschitz::Bounded;
+use tracer::models::progressive::GmModel;
+use tracer::models::Model;
 use tracer::progressive::*;
-use tracer::shape::{Aabb, Model, Shape, View};
+use tracer::search::lipschitz::Bounded;
+use tracer::shape::{Aabb, Shape, View};
 
 fn model(name: &str) -> Model {
-    tracer::gm_models::all()
+    tracer::models::progressive::all()
         .into_iter()
         .find(|m| m.name == name)
         .unwrap()
@@ -243,7 +244,7 @@ fn previewer_paints_a_full_frame_early() {
         .count();
     assert!(done < 64 * 64 / 2, "{done}");
     let img = e.image().snapshot();
-    let bg = tracer::shade::BACKGROUND;
+    let bg = tracer::render::shade::BACKGROUND;
     let bgc = (bg[0] as u32) << 16 | (bg[1] as u32) << 8 | bg[2] as u32;
     assert!(img.iter().any(|&c| c != bgc));
 }
@@ -272,7 +273,7 @@ fn anti_aliasing_box_filters_subpixel_samples() {
         assert_eq!(a.is_finite(), b.is_finite());
     }
     // Silhouette pixels mix the surface and the background colour.
-    let bg = tracer::shade::BACKGROUND;
+    let bg = tracer::render::shade::BACKGROUND;
     let img = e.image().to_rgb();
     let mixed = (0..12)
         .flat_map(|j| (0..16).map(move |i| (i, j)))
@@ -366,7 +367,7 @@ fn local_bounds_keep_the_guarantee_and_save_evaluations() {
         let f = |p: DVec3| m.eval(p.x, p.y, p.z);
         for (k, &depth) in e.depth().iter().enumerate() {
             let (o, d) = cam.ray(k as u32 % w, k as u32 / w);
-            let Some((t0, t1)) = tracer::lipschitz::clip_to_box(o, d, &m.domain) else {
+            let Some((t0, t1)) = tracer::search::lipschitz::clip_to_box(o, d, &m.domain) else {
                 assert!(depth.is_infinite());
                 continue;
             };

@@ -72,7 +72,7 @@ fn window_refines_for_a_second_then_stops_and_writes_the_image() {
         .expect("image written when stopped")
         .to_rgb8();
     assert_eq!(img.dimensions(), (200, 160));
-    let bg = tracer::shade::BACKGROUND;
+    let bg = tracer::render::shade::BACKGROUND;
     let shaded = img.pixels().filter(|p| p.0 != bg).count();
     assert!(shaded > 1000, "only {shaded} shaded pixels");
     let _ = std::fs::remove_dir_all(&dir);

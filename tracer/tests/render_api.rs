@@ -6,8 +6,8 @@ use arith_core::Real;
 use glam::DVec3;
 use tracer::arith::ArithKind;
 use tracer::camera::Camera;
+use tracer::render::shade::Light;
 use tracer::render::{render_kind, RenderOptions};
-use tracer::shade::Light;
 use tracer::shape::{Aabb, Shape, View};
 
 /// A ball of radius 0.5 centred at `C` resting above the floor `y <= 0`.

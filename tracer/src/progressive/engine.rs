@@ -2,10 +2,10 @@
 //! the sample queue, prime-factor subdivision, regions of interest.
 
 use crate::camera::Camera;
-use crate::lipschitz::{
+use crate::render::shade::{self, Light, Material, BACKGROUND};
+use crate::search::lipschitz::{
     box_distance, clip_to_box, local_trace, overshoot_trace, sphere_trace, Bounded, LocalCounts,
 };
-use crate::shade::{self, Light, Material, BACKGROUND};
 use crate::shape::{Aabb, Shape, View};
 use glam::DVec3;
 use std::collections::VecDeque;
@@ -54,7 +54,7 @@ impl Options {
         Options {
             lambda,
             eps: 1e-4,
-            overshoot: crate::lipschitz::DEFAULT_OVERSHOOT,
+            overshoot: crate::search::lipschitz::DEFAULT_OVERSHOOT,
             aa: 1,
             child_start: ChildStart::Radial,
             local: false,
@@ -147,11 +147,11 @@ fn frustum_box(o: DVec3, d: DVec3, tan_a: f64, ta: f64, tb: f64) -> Aabb {
 
 /// Cone tracing with local Lipschitz bounds (past the paper): the cone is cut into
 /// axial segments `[ta, tb]`; in each, `λ` is the gradient bound over the box around
-/// that frustum, intersected with the domain ([`crate::lipschitz::gradient_bound_on_box`],
+/// that frustum, intersected with the domain ([`crate::search::lipschitz::gradient_bound_on_box`],
 /// capped by the global bound), and Fig. 3 runs inside it with the offsets (5) clipped
 /// to the segment (a ball certifies only the part of the cone inside the box, where its
 /// `λ` holds). The next segment starts at the cleared frontier. Segment lengths adapt
-/// as in [`crate::lipschitz::local_trace`].
+/// as in [`crate::search::lipschitz::local_trace`].
 // `!(a > b)` on purpose: a NaN radius must fail condition (4).
 #[allow(clippy::neg_cmp_op_on_partial_ord, clippy::too_many_arguments)]
 pub fn trace_cone_local<S: Shape + ?Sized>(
@@ -177,7 +177,7 @@ pub fn trace_cone_local<S: Shape + ?Sized>(
         let clipped = Aabb::new(bx.min.max(b.domain.min), bx.max.min(b.domain.max));
         let lam = if clipped.min.cmple(clipped.max).all() {
             *range_evals += 1;
-            crate::lipschitz::gradient_bound_on_box(b.shape, &clipped).min(b.lambda)
+            crate::search::lipschitz::gradient_bound_on_box(b.shape, &clipped).min(b.lambda)
         } else {
             b.lambda // the frustum misses the domain: any bound serves
         };
@@ -939,7 +939,7 @@ pub fn raycast<S: Shape + ?Sized>(
                             let mut c = LocalCounts::default();
                             let t = local_trace(&b, o, d, t0, t1, eps, k, &mut c);
                             counts.range_evals += c.range_evals;
-                            crate::lipschitz::Cast { t, evals: c.evals }
+                            crate::search::lipschitz::Cast { t, evals: c.evals }
                         }
                     };
                     counts.evals += c.evals;

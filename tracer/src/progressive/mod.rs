@@ -15,7 +15,7 @@ pub use engine::{
     Options, Plan, Rect, SharedImage, Stats, Step,
 };
 
-use crate::shape::Model;
+use crate::models::Model;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -37,7 +37,7 @@ pub struct PreviewArgs {
     #[arg(long, default_value_t = 1e-4)]
     pub eps: f64,
     /// Overshooting factor of the terminal ray caster.
-    #[arg(long, default_value_t = crate::lipschitz::DEFAULT_OVERSHOOT)]
+    #[arg(long, default_value_t = crate::search::lipschitz::DEFAULT_OVERSHOOT)]
     pub overshoot: f64,
     /// Anti-aliasing: subdivide to 1/N of a pixel and box-filter (Appendix A with a box filter).
     #[arg(long, default_value_t = 1)]
@@ -67,7 +67,7 @@ pub struct PreviewArgs {
 
 /// Finds a model by name among every model the tracer knows.
 pub fn find_model(name: &str) -> Result<Model, String> {
-    crate::gm_models::all()
+    crate::models::progressive::all()
         .into_iter()
         .find(|m| m.name.eq_ignore_ascii_case(name))
         .ok_or_else(|| format!("unknown model '{name}' (see `tracer list`)"))
@@ -263,12 +263,12 @@ pub fn bench_table(models: &[Model], width: u32, height: u32) -> Result<Vec<Benc
         for (method, caster) in [
             (
                 "overshoot-rc",
-                Caster::Overshoot(crate::lipschitz::DEFAULT_OVERSHOOT),
+                Caster::Overshoot(crate::search::lipschitz::DEFAULT_OVERSHOOT),
             ),
             ("standard-rc", Caster::Standard),
             (
                 "local-rc",
-                Caster::Local(crate::lipschitz::DEFAULT_OVERSHOOT),
+                Caster::Local(crate::search::lipschitz::DEFAULT_OVERSHOOT),
             ),
         ] {
             let start = Instant::now();

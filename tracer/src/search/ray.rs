@@ -19,7 +19,7 @@
 //! last segment proved empty (so the pieces follow the length on which the function's
 //! ranges are tight: -25% evaluations on hair and the microstructure). When the cell's
 //! form has already placed the ray's roots in a piece within the precision (see
-//! [`crate::cull`]), a sign change at its ends resolves the ray without any range
+//! [`crate::search::cull`]), a sign change at its ends resolves the ray without any range
 //! evaluation: nothing before the piece holds a root, so the first root lies in it.
 //!
 //! The search is a state machine ([`RaySearch`]) that asks for one segment's range at a
@@ -734,7 +734,7 @@ mod tests {
         let models = crate::models::PaperModel::ALL
             .map(|m| m.model())
             .into_iter()
-            .chain(crate::gm_models::all());
+            .chain(crate::models::progressive::all());
         for m in models {
             let cam = crate::camera::Camera::try_new(m.view, 64, 64).unwrap();
             let params = RayParams {

@@ -9,7 +9,7 @@
 //! as the domain's (a linear function is extreme at box corners) and is tightened by the
 //! depth range of the resulting box (still an enclosure, since the box holds all those
 //! points). Everything is widened by a margin far above the rounding of the corners
-//! and of [`crate::ray::clip`].
+//! and of [`crate::search::ray::clip`].
 //!
 //! A cell is tested in the arithmetic's cell form with THREE INDEPENDENT inputs. The
 //! paper's Section 4.2 writes `x`, `y` and `z` with the same symbol `eps1`, which asserts
@@ -20,7 +20,7 @@
 //! frustum's points `eye + s D(u, v)`; the product `s D` leaves the terms `s u`, `s v`,
 //! bounded in the error. Unlike the box, these forms follow the frustum's slant, and the
 //! range's linear part on the depth symbol prunes the cell's depth range like a ray's
-//! (see [`crate::ray::prune`]). Arithmetics without symbols (intervals) get the
+//! (see [`crate::search::ray::prune`]). Arithmetics without symbols (intervals) get the
 //! parallelepiped's box, which is the frustum's box up to its slant. A cell whose range
 //! excludes 0 holds no root of any of its rays and is dropped; otherwise it is split in
 //! four, down to cells too small to be worth a test, whose rays are traced one by one.
@@ -42,7 +42,7 @@
 //! the precision and shows a sign change.
 
 use crate::camera::Camera;
-use crate::ray::Pruner;
+use crate::search::ray::Pruner;
 use crate::shape::{Aabb, Shape};
 use arith_core::pack::{Pack, LANES};
 use arith_core::round::{up_finite, ETA, U};
@@ -90,7 +90,7 @@ pub struct Depths {
     /// more than `s0` is known).
     pub resume: f64,
     /// The first piece of depth searched after `[s0, split]` is at least this deep (`0`:
-    /// no hint), see [`crate::ray::Search`].
+    /// no hint), see [`crate::search::ray::Search`].
     pub step: f64,
     pub s1: f64,
 }
@@ -612,7 +612,7 @@ enum Step<R> {
 ///
 /// Like a ray, the narrowing marches: `[s.0, split]` first (the parent's first non-empty
 /// slice, or this cell's share of the parent's form, where its surface most likely
-/// starts), then pieces [`crate::ray::MARCH_GROWTH`] times as deep as the slice last
+/// starts), then pieces [`crate::search::ray::MARCH_GROWTH`] times as deep as the slice last
 /// proved empty; halving the whole rest from the front costs an evaluation per halving
 /// before anything is proved.
 ///
@@ -672,7 +672,7 @@ impl<R: Range> Narrowing<R> {
         } else if !f.contains_zero() {
             None
         } else {
-            let kept = match crate::ray::prune(&f, t0, t1) {
+            let kept = match crate::search::ray::prune(&f, t0, t1) {
                 Some(None) => None,
                 Some(Some((a, b))) => Some((a.max(cur.0), b.min(cur.1))),
                 None => Some(cur),
@@ -745,11 +745,11 @@ impl<R: Range> Narrowing<R> {
                 // As for rays: a little longer than the slice just proved empty. Never
                 // thinner than a slice worth testing (progress is certain).
                 let rest = self.rest;
-                let step = ((cur.1 - cur.0) * crate::ray::MARCH_GROWTH)
+                let step = ((cur.1 - cur.0) * crate::search::ray::MARCH_GROWTH)
                     .max(self.width * rest.max(0.0) + c.margin)
                     .max(self.first_step);
                 self.first_step = 0.0;
-                let end = crate::ray::next_piece(rest, s.1, step);
+                let end = crate::search::ray::next_piece(rest, s.1, step);
                 self.cur = (rest, end);
                 self.rest = end;
             } else {
@@ -783,7 +783,7 @@ fn depth_range(cam: &Camera, b: &Aabb) -> (f64, f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::ray::clip;
+    use crate::search::ray::clip;
     use crate::shape::View;
 
     use crate::arith::ArithKind;
@@ -813,7 +813,7 @@ mod tests {
     /// and says it packs would fail here.)
     #[test]
     fn packed_narrowing_is_the_scalar_narrowing() {
-        struct OneByOne<'a>(&'a crate::shape::Model);
+        struct OneByOne<'a>(&'a crate::models::Model);
         impl Shape for OneByOne<'_> {
             fn eval<R: Real>(&self, x: R, y: R, z: R) -> R {
                 self.0.eval(x, y, z)
@@ -825,7 +825,7 @@ mod tests {
         let models = crate::models::PaperModel::ALL
             .map(|m| m.model())
             .into_iter()
-            .chain(crate::gm_models::all());
+            .chain(crate::models::progressive::all());
         for m in models {
             let (w, h) = (40, 30);
             let cam = Camera::new(m.view, w, h);

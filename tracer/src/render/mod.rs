@@ -1,21 +1,25 @@
-//! The renderer: tiles in parallel (rayon), each tile traversed by cell culling
-//! ([`crate::cull`]) and its remaining pixels traced by Algorithm 1 ([`crate::ray`]),
-//! shaded ([`crate::shade`]), with optional shadow rays through the same reliable
-//! intersection. Monomorphised once per arithmetic and shape; the per-ray path does not
-//! allocate for `Copy` arithmetics.
+//! The reliable tracer: tiles in parallel (rayon), each tile traversed by cell culling
+//! ([`crate::search::cull`]) and its remaining pixels traced by Algorithm 1
+//! ([`crate::search::ray`]), shaded ([`shade`]), with optional shadow rays through the
+//! same reliable intersection, written by [`output`]. Monomorphised once per arithmetic
+//! and shape; the per-ray path does not allocate for `Copy` arithmetics.
+
+pub mod output;
+pub mod shade;
 
 use crate::arith::ArithKind;
 use crate::camera::Camera;
-use crate::cull::{CullStats, Culler, Depths};
-use crate::ray::{
+use crate::models::Model;
+use crate::search::cull::{CullStats, Culler, Depths};
+use crate::search::ray::{
     clip, clip_with, first_root, first_roots, Precision, RayJob, RayParams, RayStats, Search,
 };
-use crate::shade::{self, Light, Material};
-use crate::shape::{Aabb, Model, Shape, View};
+use crate::shape::{Aabb, Shape, View};
 use arith_core::Arithmetic;
 use glam::DVec3;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
+use shade::{Light, Material};
 use std::io::IsTerminal;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;

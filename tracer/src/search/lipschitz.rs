@@ -285,20 +285,20 @@ impl<R: Real> Dual<R> {
 /// `a ∪ b` as one value: the hull for known ranges, either one for points (a valid
 /// one-sided derivative), the whole line otherwise.
 fn hull<R: Real>(a: &R, b: &R) -> R {
-    use crate::noise::{known, make_range, Known};
+    use crate::models::noise::{known, make_range, Known};
     match (known(a), known(b)) {
         (Known::Point(_), Known::Point(_)) => a.clone(),
         (Known::Range(a0, a1), Known::Range(b0, b1)) => {
-            make_range(a0.min(b0), a1.max(b1)).unwrap_or_else(crate::noise::unknown_value)
+            make_range(a0.min(b0), a1.max(b1)).unwrap_or_else(crate::models::noise::unknown_value)
         }
-        _ => crate::noise::unknown_value(),
+        _ => crate::models::noise::unknown_value(),
     }
 }
 
 /// Which side of `min(a, b)` is taken: `Some(true)` for `a`, `Some(false)` for `b`,
 /// `None` when undecided (overlapping ranges, unknown types).
 fn min_side<R: Real>(a: &R, b: &R) -> Option<bool> {
-    use crate::noise::{known, Known};
+    use crate::models::noise::{known, Known};
     match (known(a), known(b)) {
         (Known::Point(x), Known::Point(y)) => Some(x <= y),
         (Known::Range(a0, a1), Known::Range(b0, b1)) => {

@@ -817,7 +817,7 @@ mod tests {
         let src = "a = x^2 - y; b = sqrt(abs(a)) + exp(-y) / 3 - ln(z) * sin(x) + cos(y);
                    c = min(a, b) * max(x, z) - 1 / x + 2 / (y - 5) - (z - 0.1) + x^-3 * y^5 + x / y + (3 - z) * (z + 2) * sin(1) + 4 * z;
                    (a & b) | (c \\ x) & -z";
-        let t = crate::expr::parse(src).unwrap();
+        let t = crate::models::formula::parse(src).unwrap();
         let ops: std::collections::HashSet<Op> = t.instructions().iter().map(|i| i.op).collect();
         assert_eq!(ops.len(), 28, "every op is exercised:\n{t}");
         for &(x, y, z) in &[

@@ -3,11 +3,12 @@
 //! FRep sign convention throughout: `f >= 0` inside. The paper writes Mitchell's surface
 //! (eq. 9), the blobby model (eq. 10) and the hypertextures (eqs. 11, 12) with the
 //! opposite sign (negative inside); here each is negated.
-use crate::lipschitz::auto_lipschitz;
-use crate::noise::{
+use super::{AnyShape, Model};
+use crate::models::noise::{
     eval_field, known, Cellular, Field3, Known, Perlin, SparseConvolution, SplitMix64,
 };
-use crate::shape::{Aabb, AnyShape, Model, Shape, View};
+use crate::search::lipschitz::auto_lipschitz;
+use crate::shape::{Aabb, Shape, View};
 use arith_core::Real;
 use glam::DVec3;
 use std::sync::OnceLock;
@@ -95,7 +96,7 @@ fn blobby_point(p: DVec3) -> f64 {
 /// against the supports, and its "localised" evaluation). `None` for points and
 /// unknown types (keep all).
 fn relevant_blobs<R: Real>(x: &R, y: &R, z: &R) -> Option<Vec<bool>> {
-    use crate::lipschitz::Dual;
+    use crate::search::lipschitz::Dual;
     use std::any::Any;
     let bounds = |v: &R| match known(v) {
         Known::Range(lo, hi) => Some((lo, hi)),

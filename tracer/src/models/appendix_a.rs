@@ -5,7 +5,8 @@
 //! (`f >= 0` inside). Domains were chosen by sampling each function on a grid and adding
 //! a margin around the solid; views frame the solid in a three-quarter view.
 
-use crate::shape::{Aabb, AnyShape, Model, Shape, View};
+use super::{AnyShape, Model};
+use crate::shape::{Aabb, Shape, View};
 use arith_core::rfunc::{blend_intersect, blend_union, intersect, subtract, union};
 use arith_core::Real;
 use glam::DVec3;
@@ -317,49 +318,9 @@ pub fn sphere_trimming<R: Real>(x: R, y: R, z: R) -> R {
     intersect(shell, g.abs().rsub(0.3))
 }
 
-/// Every model the CLI knows: the paper's, then the progressive-refinement paper's.
-pub fn all() -> Vec<Model> {
-    let mut v: Vec<Model> = PaperModel::ALL.iter().map(|m| m.model()).collect();
-    v.extend(crate::gm_models::all());
-    v
-}
-
-/// The model named `name` (case-insensitive); the error lists the valid names. Only the
-/// model found is built (some models compute a Lipschitz bound when built).
-pub fn find(name: &str) -> Result<Model, String> {
-    let is = |n: &str| n.eq_ignore_ascii_case(name);
-    if let Some(m) = PaperModel::ALL.iter().find(|m| is(m.name())) {
-        return Ok(m.model());
-    }
-    let gm = crate::gm_models::GmModel::all();
-    if let Some(m) = gm.iter().find(|m| is(&m.name())) {
-        return Ok(m.model());
-    }
-    let names: Vec<String> = PaperModel::ALL
-        .iter()
-        .map(|m| m.name().to_string())
-        .chain(gm.iter().map(|m| m.name()))
-        .collect();
-    Err(format!(
-        "unknown model '{name}' (expected one of: {})",
-        names.join(", ")
-    ))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn names_are_unique_and_found() {
-        let all = all();
-        for m in &all {
-            assert_eq!(find(&m.name).unwrap().name, m.name);
-            assert_eq!(all.iter().filter(|o| o.name == m.name).count(), 1);
-        }
-        let e = find("nope").unwrap_err();
-        assert!(e.contains("mitchell") && e.contains("nope"));
-    }
 
     #[test]
     fn known_points_have_the_right_sign() {

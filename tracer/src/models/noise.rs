@@ -20,7 +20,7 @@
 //! it returns `1 / 0`, which is `+inf` for points and the whole line for every sound
 //! range: sound, if useless.
 
-use crate::lipschitz::Dual;
+use crate::search::lipschitz::Dual;
 use arith_core::{Arithmetic, Range, Real};
 use glam::DVec3;
 use std::any::{Any, TypeId};

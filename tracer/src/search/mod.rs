@@ -1,0 +1,9 @@
+//! Searches: the algorithms that find where a surface is, each asking a shape for one
+//! range or point value at a time, so scalar, packed and (later) GPU drivers share them.
+//! [`ray`] is the revised-affine paper's Algorithm 1 (range test, dichotomy, argument
+//! pruning), [`cull`] its Algorithm 2 (cell culling in frustum form), [`lipschitz`] the
+//! progressive-refinement paper's Lipschitz ray casters and automatic Lipschitz bounds.
+
+pub mod cull;
+pub mod lipschitz;
+pub mod ray;
