@@ -190,52 +190,6 @@ pub fn bounds_fast(x0: f64, xs: &[f64], e: f64) -> (f64, f64) {
     )
 }
 
-/// `sqrt(x² + y²)` for the reduced and revised forms (`$x`, `$y` of type `$ty` with
-/// fields `x0`, `xs` and the error field `$e`, and the methods `apply` and the constant
-/// `UNBOUNDED`), expanded in each crate: a shared function returning the parts measured
-/// 10% slower on CSG than this code inlined.
-///
-/// Each square is the Chebyshev square (`x0² + ½Wx² + 2 x0 Lx ± (2|x0| ex + ½Wx²)`,
-/// `Wx >= u + ex`, as `sqr` of both crates), the two summed before a single rounding
-/// bound; `sqrt` is approximated on the sum's range ([`bounds_fast`]) cut at the floor
-/// `mig(x)² + mig(y)²` ([`crate::approx::sum_sq_floor`]). The R-functions spend most of
-/// an evaluation here.
-#[macro_export]
-macro_rules! affine_hypot {
-    ($x:expr, $y:expr, $e:ident, $ty:ident) => {{
-        use $crate::affine_round as __fp;
-        use $crate::round::U as __U;
-        let (x, y) = ($x, $y);
-        let wx = __fp::rad_up(&x.xs, x.$e);
-        let wy = __fp::rad_up(&y.xs, y.$e);
-        let (px, py) = (x.x0 * x.x0, y.x0 * y.x0);
-        let (wwx, wwy) = (wx * wx, wy * wy);
-        let h = 0.5 * (wwx + wwy);
-        let c0 = px + py + h;
-        let (tx0, ty0) = (2.0 * x.x0, 2.0 * y.x0);
-        let mut r = px + py + wwx + wwy + h + c0.abs();
-        let mut xs = [0.0; N];
-        for ((z, xi), yi) in xs.iter_mut().zip(&x.xs).zip(&y.xs) {
-            let a = tx0 * xi;
-            let b = ty0 * yi;
-            *z = a + b;
-            r += a.abs() + b.abs() + z.abs();
-        }
-        let main = h + tx0.abs() * x.$e + ty0.abs() * y.$e;
-        let e = __fp::up_abs(main + __U * r, __fp::k_mul(N) + 4);
-        let (lo, hi) = __fp::bounds_fast(c0, &xs, e);
-        if !(lo.is_finite() && hi.is_finite()) {
-            $ty::UNBOUNDED
-        } else {
-            // The radii are the ones the squares used.
-            let mx = __fp::mig_below(x.x0, wx);
-            let my = __fp::mig_below(y.x0, wy);
-            let floor = $crate::approx::sum_sq_floor((mx, mx), (my, my));
-            $ty { x0: c0, xs, $e: e }.apply($crate::approx::sqrt_at_least(lo, hi, floor))
-        }
-    }};
-}
-
 /// A lower bound of `min |x|` over the form `x0 + Σ xs[i] εi ± e` (`0` when the range may
 /// hold 0), without directed rounding: `|x0| - rad` with `rad` rounded up, the difference
 /// (within `U` relative when positive) scaled down by `1 - 2U`.

@@ -59,6 +59,7 @@
 pub mod affine_round;
 pub mod approx;
 pub mod pack;
+pub mod reduced;
 pub mod rfunc;
 pub mod round;
 #[cfg(feature = "simd")]

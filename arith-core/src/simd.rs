@@ -4,7 +4,7 @@
 //! The reduced arithmetics (RAA*, RevAA) share every affine operation (`+ - neg`, the
 //! `f64`-constant ones, the ray inputs) and differ only in their product and square. So
 //! this module runs the shared operations as 4-lane vector instructions, and each
-//! arithmetic's crate supplies its own `*` and `sqr` through [`ReducedForm`]. Every
+//! arithmetic's crate supplies its own `*` and `sqr` through [`ReducedLanes`]. Every
 //! operation performs, lane for lane, exactly the `f64` operations of the scalar form in
 //! the same order (no fused operations, the same selects), so each lane is bit for bit
 //! the scalar result (but for the sign and payload of a NaN, which no bound reads: NaN
@@ -17,6 +17,7 @@
 
 use crate::affine_round::{k_lin, k_mul, slack};
 use crate::pack::{Pack, LANES};
+use crate::reduced::{Reduced, ReducedKind};
 use crate::round::{ETA, U};
 use crate::{Range, Real};
 use core::marker::PhantomData;
@@ -41,6 +42,38 @@ pub trait ReducedForm<const N: usize>: Range + Copy {
     fn mul_x4(x: ReducedX4<N, Self>, y: ReducedX4<N, Self>) -> ReducedX4<N, Self>;
     /// Lane for lane, bit for bit, the scalar `x.sqr()`.
     fn sqr_x4(x: ReducedX4<N, Self>) -> ReducedX4<N, Self>;
+}
+
+/// A [`ReducedKind`]'s product and square in lanes, which make its [`Reduced`] forms a
+/// [`ReducedForm`].
+pub trait ReducedLanes: ReducedKind {
+    /// Lane for lane, bit for bit, the scalar `x * y`.
+    fn mul_x4<const N: usize>(
+        x: ReducedX4<N, Reduced<N, Self>>,
+        y: ReducedX4<N, Reduced<N, Self>>,
+    ) -> ReducedX4<N, Reduced<N, Self>>;
+    /// Lane for lane, bit for bit, the scalar `x.sqr()`.
+    fn sqr_x4<const N: usize>(x: ReducedX4<N, Reduced<N, Self>>) -> ReducedX4<N, Reduced<N, Self>>;
+}
+
+impl<const N: usize, K: ReducedLanes> ReducedForm<N> for Reduced<N, K> {
+    #[inline(always)]
+    fn parts(&self) -> (f64, [f64; N], f64) {
+        (self.x0, self.xs, self.e)
+    }
+    #[inline(always)]
+    fn from_parts(x0: f64, xs: [f64; N], e: f64) -> Self {
+        debug_assert!(e >= 0.0 || e.is_nan(), "negative radius {e}");
+        Reduced::from_parts(x0, xs, e)
+    }
+    #[inline(always)]
+    fn mul_x4(x: ReducedX4<N, Self>, y: ReducedX4<N, Self>) -> ReducedX4<N, Self> {
+        K::mul_x4(x, y)
+    }
+    #[inline(always)]
+    fn sqr_x4(x: ReducedX4<N, Self>) -> ReducedX4<N, Self> {
+        K::sqr_x4(x)
+    }
 }
 
 /// Four forms `F`, structure of arrays: centres, coefficients, error radii (raw: see

@@ -7,10 +7,10 @@
 //! operations in the same order with the same selects, so each lane is bit for bit the
 //! scalar `Raa<N>` (NaN signs and payloads aside) and inherits its soundness proof.
 
-use crate::Raa;
+use crate::{Raa, RaaArith};
 use arith_core::affine_round::{k_mul, sqr_margin, TINY};
 use arith_core::round::U;
-use arith_core::simd::{splat, up_abs, ReducedForm, ReducedX4};
+use arith_core::simd::{splat, up_abs, ReducedLanes, ReducedX4};
 
 /// Four [`Raa<N>`] forms in SIMD lanes.
 pub type RaaX4<const N: usize> = ReducedX4<N, Raa<N>>;
@@ -20,21 +20,11 @@ pub type Raa1x4 = RaaX4<1>;
 /// Four cell forms ([`Raa<3>`]).
 pub type Raa3x4 = RaaX4<3>;
 
-impl<const N: usize> ReducedForm<N> for Raa<N> {
-    #[inline(always)]
-    fn parts(&self) -> (f64, [f64; N], f64) {
-        (self.x0, self.xs, self.acc)
-    }
-    #[inline(always)]
-    fn from_parts(x0: f64, xs: [f64; N], acc: f64) -> Self {
-        debug_assert!(acc >= 0.0 || acc.is_nan(), "negative radius {acc}");
-        Raa { x0, xs, acc }
-    }
-
+impl ReducedLanes for RaaArith {
     /// The scalar AF1 product.
     #[inline(always)]
     #[allow(clippy::needless_range_loop)] // several arrays indexed together
-    fn mul_x4(x: RaaX4<N>, y: RaaX4<N>) -> RaaX4<N> {
+    fn mul_x4<const N: usize>(x: RaaX4<N>, y: RaaX4<N>) -> RaaX4<N> {
         let zero = splat(0.0);
         let x0 = x.x0 * y.x0;
         let (mut u, mut v) = (zero, zero);
@@ -55,7 +45,7 @@ impl<const N: usize> ReducedForm<N> for Raa<N> {
     /// The scalar `sqr`: the Chebyshev square where its gain survives and its bound is
     /// finite, else `x * x` (both computed, then the same choice per lane).
     #[inline(always)]
-    fn sqr_x4(x: RaaX4<N>) -> RaaX4<N> {
+    fn sqr_x4<const N: usize>(x: RaaX4<N>) -> RaaX4<N> {
         let w = x.rad_dir();
         let m = x.x0.abs() + w;
         let gain = (w * w).simd_gt(splat(sqr_margin(N)) * (m * m) + splat(TINY));

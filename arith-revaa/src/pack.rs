@@ -9,10 +9,10 @@
 //! On a model of squares and products (the decocube) one packed evaluation costs about
 //! 1.6-1.8 scalar ones.
 
-use crate::RevAa;
+use crate::{RevAa, RevAaArith};
 use arith_core::affine_round::{k_mul, sqr_margin, TINY};
 use arith_core::round::U;
-use arith_core::simd::{splat, up_abs, ReducedForm, ReducedX4};
+use arith_core::simd::{splat, up_abs, ReducedLanes, ReducedX4};
 
 /// Four [`RevAa<N>`] forms in SIMD lanes.
 pub type RevAaX4<const N: usize> = ReducedX4<N, RevAa<N>>;
@@ -22,24 +22,15 @@ pub type RevAa1x4 = RevAaX4<1>;
 /// Four cell forms ([`RevAa<3>`]).
 pub type RevAa3x4 = RevAaX4<3>;
 
-impl<const N: usize> ReducedForm<N> for RevAa<N> {
+impl ReducedLanes for RevAaArith {
     #[inline(always)]
-    fn parts(&self) -> (f64, [f64; N], f64) {
-        (self.x0, self.xs, self.e)
-    }
-    #[inline(always)]
-    fn from_parts(x0: f64, xs: [f64; N], e: f64) -> Self {
-        debug_assert!(e >= 0.0 || e.is_nan(), "negative radius {e}");
-        RevAa { x0, xs, e }
-    }
-    #[inline(always)]
-    fn mul_x4(x: RevAaX4<N>, y: RevAaX4<N>) -> RevAaX4<N> {
+    fn mul_x4<const N: usize>(x: RevAaX4<N>, y: RevAaX4<N>) -> RevAaX4<N> {
         mul_forms(x, y)
     }
     /// The scalar `sqr`: the Chebyshev square where its gain survives and its bound is
     /// finite, else `x * x` (both computed, then the same choice per lane).
     #[inline(always)]
-    fn sqr_x4(x: RevAaX4<N>) -> RevAaX4<N> {
+    fn sqr_x4<const N: usize>(x: RevAaX4<N>) -> RevAaX4<N> {
         let w = x.rad_dir();
         let s2 = x.xs.iter().fold(splat(0.0), |s, c| s + *c * *c);
         let m = x.x0.abs() + w;
