@@ -630,6 +630,13 @@ impl Div<f64> for Aa {
 arith_core::impl_f64_lhs_ops!(Aa);
 
 impl Real for Aa {
+    fn known(&self) -> arith_core::Known {
+        let (lo, hi) = self.bounds();
+        arith_core::Known::Range(lo, hi)
+    }
+    fn from_bounds(lo: f64, hi: f64) -> Option<Self> {
+        Some(<Self as Range>::from_interval(lo, hi))
+    }
     fn constant(c: f64) -> Aa {
         if c.is_finite() {
             Aa {

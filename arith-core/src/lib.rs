@@ -58,6 +58,7 @@
 
 pub mod affine_round;
 pub mod approx;
+pub mod dual;
 pub mod pack;
 pub mod reduced;
 pub mod rfunc;
@@ -68,4 +69,4 @@ pub mod simd;
 pub mod testkit;
 
 mod real;
-pub use real::{AffinePart, Arithmetic, Linear, Range, Real};
+pub use real::{AffinePart, Arithmetic, Known, Linear, Range, Real};

@@ -71,6 +71,29 @@ pub trait Real:
     fn rdiv(self, c: f64) -> Self {
         self.recip() * c
     }
+    /// What the value says about itself to generic code: a point, the bounds of a sound
+    /// range, or nothing (the default: operation counters, packs). Every [`Range`]
+    /// returns [`Known::Range`] of its [`Range::bounds`] (the test kit checks it).
+    fn known(&self) -> Known {
+        Known::Unknown
+    }
+    /// A value enclosing `[lo, hi]` where the type holds ranges (every [`Range`]:
+    /// [`Range::from_interval`]); `None` for points and other types (the default).
+    fn from_bounds(lo: f64, hi: f64) -> Option<Self> {
+        let _ = (lo, hi);
+        None
+    }
+}
+
+/// What a value of a generic [`Real`] type is known to be ([`Real::known`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Known {
+    /// An `f64` point.
+    Point(f64),
+    /// A sound range with these bounds.
+    Range(f64, f64),
+    /// A type that says nothing about its values.
+    Unknown,
 }
 
 /// The linear part of an affine form on its first input symbol:
@@ -258,6 +281,9 @@ impl Real for f64 {
     }
     fn rsub(self, c: f64) -> Self {
         c - self
+    }
+    fn known(&self) -> Known {
+        Known::Point(*self)
     }
     fn rdiv(self, c: f64) -> Self {
         c / self

@@ -279,6 +279,13 @@ impl<const N: usize, K: ReducedKind> Div for Reduced<N, K> {
 crate::impl_f64_lhs_ops!(<const N: usize, K: ReducedKind> Reduced<N, K>);
 
 impl<const N: usize, K: ReducedKind> Real for Reduced<N, K> {
+    fn known(&self) -> crate::Known {
+        let (lo, hi) = self.bounds();
+        crate::Known::Range(lo, hi)
+    }
+    fn from_bounds(lo: f64, hi: f64) -> Option<Self> {
+        Some(<Self as Range>::from_interval(lo, hi))
+    }
     fn constant(c: f64) -> Self {
         Self::from_parts(c, [0.0; N], 0.0)
     }

@@ -307,6 +307,13 @@ fn max4(a: f64, b: f64, c: f64, d: f64) -> f64 {
 }
 
 impl Real for Interval {
+    fn known(&self) -> arith_core::Known {
+        let (lo, hi) = self.bounds();
+        arith_core::Known::Range(lo, hi)
+    }
+    fn from_bounds(lo: f64, hi: f64) -> Option<Self> {
+        Some(<Self as Range>::from_interval(lo, hi))
+    }
     fn constant(c: f64) -> Self {
         Interval::point(c)
     }

@@ -1,36 +1,105 @@
-//! The one list of arithmetics. Adding a fifth arithmetic: one new crate implementing
-//! [`arith_core::Range`] and [`arith_core::Arithmetic`], plus one line in [`ArithKind`]
-//! and one arm in [`with_arith!`](crate::with_arith).
+//! The one list of arithmetics. [`ArithKind`], [`ArithKind::ALL`], the names, the help
+//! texts and the dispatch [`with_arith!`](crate::with_arith) are all generated from the
+//! list in [`arith_list!`](crate::arith_list), so adding an arithmetic is one crate
+//! implementing [`arith_core::Range`] and [`arith_core::Arithmetic`] plus one line there
+//! (and the crate in `tracer`'s dependencies and re-exports below).
 
 use std::fmt;
 use std::str::FromStr;
 
-/// Which arithmetic to use.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum ArithKind {
-    Ia,
-    Aa,
-    Raa,
-    Revaa,
+pub use arith_aa;
+pub use arith_core;
+pub use arith_ia;
+pub use arith_raa;
+pub use arith_revaa;
+
+/// `arith_list!([callback] { args })` calls `callback! { args [ Variant => path::to::ArithmeticFamily, ... ] }` with
+/// every arithmetic, in the papers' table order. This is the one list: the enum, `ALL`,
+/// the dispatch and every table are generated from it.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! arith_list {
+    ([$($callback:tt)*] { $($args:tt)* }) => {
+        $($callback)*! { $($args)* [
+            Ia => $crate::arith::arith_ia::IaArith,
+            Aa => $crate::arith::arith_aa::AaArith,
+            Raa => $crate::arith::arith_raa::RaaArith,
+            Revaa => $crate::arith::arith_revaa::RevAaArith,
+        ] }
+    };
+}
+
+macro_rules! define_kinds {
+    ([ $($variant:ident => $family:path),* $(,)? ]) => {
+        /// Which arithmetic to use: one variant per entry of the one list. Its doc, name
+        /// and label come from the arithmetic itself ([`arith_core::Arithmetic`]).
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+        pub enum ArithKind {
+            $(
+                #[allow(missing_docs)]
+                $variant,
+            )*
+        }
+
+        impl ArithKind {
+            /// How many arithmetics there are.
+            pub const COUNT: usize = [$(stringify!($variant)),*].len();
+            /// Every arithmetic, in the papers' table order.
+            pub const ALL: [ArithKind; ArithKind::COUNT] = [$(ArithKind::$variant),*];
+        }
+    };
+}
+arith_list!([define_kinds] {});
+
+/// Runs `$body` with the type alias `$A` bound to the [`arith_core::Arithmetic`] family
+/// selected by `$kind` (an [`ArithKind`]). It names the arithmetic crates through
+/// `tracer`'s re-exports, so it compiles in a crate that depends on `tracer` only.
+///
+/// ```
+/// use tracer::arith::ArithKind;
+/// let names: Vec<&str> = ArithKind::ALL
+///     .iter()
+///     .map(|&k| tracer::with_arith!(k, A => <A as tracer::arith::arith_core::Arithmetic>::NAME))
+///     .collect();
+/// assert_eq!(names[0], "ia");
+/// ```
+#[macro_export]
+macro_rules! with_arith {
+    ($kind:expr, $A:ident => $body:expr) => {
+        $crate::arith_list!([$crate::__with_arith_arms] { ($kind) $A ($body) })
+    };
+}
+
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __with_arith_arms {
+    (($kind:expr) $A:ident ($body:expr) [ $($variant:ident => $family:path),* $(,)? ]) => {
+        match $kind {
+            $(
+                $crate::arith::ArithKind::$variant => {
+                    type $A = $family;
+                    $body
+                }
+            )*
+        }
+    };
 }
 
 impl ArithKind {
-    /// Every arithmetic, in the paper's table order.
-    pub const ALL: [ArithKind; 4] = [
-        ArithKind::Ia,
-        ArithKind::Aa,
-        ArithKind::Raa,
-        ArithKind::Revaa,
-    ];
-
-    /// Command-line name.
+    /// Command-line name (`revaa`).
     pub fn name(self) -> &'static str {
         crate::with_arith!(self, A => <A as arith_core::Arithmetic>::NAME)
     }
 
-    /// Label as in the paper's tables.
+    /// Label as in the paper's tables (`RevAA`).
     pub fn label(self) -> &'static str {
         crate::with_arith!(self, A => <A as arith_core::Arithmetic>::LABEL)
+    }
+
+    /// The names of every arithmetic, `ia, aa, ...`, for help texts and messages.
+    pub fn names() -> String {
+        let names: Vec<_> = ArithKind::ALL.iter().map(|k| k.name()).collect();
+        names.join(", ")
     }
 }
 
@@ -47,41 +116,10 @@ impl FromStr for ArithKind {
             .into_iter()
             .find(|k| k.name().eq_ignore_ascii_case(s))
             .ok_or_else(|| {
-                let names: Vec<_> = ArithKind::ALL.iter().map(|k| k.name()).collect();
                 format!(
                     "unknown arithmetic '{s}' (expected one of: {})",
-                    names.join(", ")
+                    ArithKind::names()
                 )
             })
     }
-}
-
-/// Runs `$body` with the type alias `$A` bound to the [`arith_core::Arithmetic`] family
-/// selected by `$kind` (an [`ArithKind`]).
-///
-/// ```ignore
-/// let name = with_arith!(kind, A => <A as arith_core::Arithmetic>::NAME);
-/// ```
-#[macro_export]
-macro_rules! with_arith {
-    ($kind:expr, $A:ident => $body:expr) => {
-        match $kind {
-            $crate::arith::ArithKind::Ia => {
-                type $A = ::arith_ia::IaArith;
-                $body
-            }
-            $crate::arith::ArithKind::Aa => {
-                type $A = ::arith_aa::AaArith;
-                $body
-            }
-            $crate::arith::ArithKind::Raa => {
-                type $A = ::arith_raa::RaaArith;
-                $body
-            }
-            $crate::arith::ArithKind::Revaa => {
-                type $A = ::arith_revaa::RevAaArith;
-                $body
-            }
-        }
-    };
 }

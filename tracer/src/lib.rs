@@ -12,6 +12,8 @@
 //! - the `tracer` binary (feature `cli`) on top; [`interrupt`] stops long work on Ctrl-C.
 
 pub mod arith;
+pub use arith::{arith_aa, arith_core, arith_ia, arith_raa, arith_revaa};
+pub use glam;
 pub mod camera;
 pub mod interrupt;
 pub mod models;

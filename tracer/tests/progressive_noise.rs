@@ -1,11 +1,11 @@
 //! The noise functions' and the models' derived bounds against sampled values and
 //! gradients (finite differences at many random points): no sample may exceed a bound.
 
+use arith_core::dual::Dual;
 use arith_core::{Range, Real};
 use arith_ia::Interval;
 use glam::DVec3;
 use tracer::models::noise::{eval_field, Cellular, Field3, Perlin, SparseConvolution, SplitMix64};
-use tracer::search::lipschitz::Dual;
 use tracer::shape::Shape;
 
 fn fields() -> Vec<(&'static str, Box<dyn Field3>)> {

@@ -12,7 +12,7 @@
 use super::expr::{expr_strategy, un_strategy, Bin, Expr, Un};
 use super::mp::{Mp, Verdict, PREC};
 use super::strategies::*;
-use crate::Range;
+use crate::{Known, Range};
 use core::fmt::Debug;
 use core::sync::atomic::{AtomicU64, Ordering::Relaxed};
 use proptest::prelude::*;
@@ -366,10 +366,19 @@ pub fn check_constants_and_inputs<R: Range>(default_cases: u32) {
             check_bounds_shape(&k)?;
             let (a, b) = k.bounds();
             prop_assert!(a <= c && c <= b, "constant {c} not in [{a}, {b}]");
-            for v in [R::from_interval(lo, hi), R::input(i, lo, hi)] {
+            // Generic code (dual numbers, noise) learns a range's bounds through `known`
+            // and builds ranges through `from_bounds`.
+            prop_assert_eq!(k.known(), Known::Range(a, b));
+            let made = R::from_bounds(lo, hi);
+            prop_assert!(made.is_some(), "from_bounds gives no range");
+            for v in [R::from_interval(lo, hi), R::input(i, lo, hi)]
+                .into_iter()
+                .chain(made)
+            {
                 check_bounds_shape(&v)?;
                 let (a, b) = v.bounds();
                 prop_assert!(a <= lo && hi <= b, "[{lo}, {hi}] not in [{a}, {b}]");
+                prop_assert_eq!(v.known(), Known::Range(a, b));
             }
             Ok(())
         },

@@ -13,15 +13,16 @@
 //!
 //! # How a generic `R: Real` is told apart
 //!
-//! [`crate::shape::Shape::eval`] is generic over [`Real`] only, which cannot say whether
-//! a value is a point or a range. Every `Real` is `'static`, so [`eval_field`] looks at
-//! the concrete type with [`Any`]: `f64`, the ray and cell forms of every arithmetic in
-//! [`crate::arith::ArithKind`], and [`Dual`] over those. For any other type (an operation counter)
-//! it returns `1 / 0`, which is `+inf` for points and the whole line for every sound
-//! range: sound, if useless.
+//! [`crate::shape::Shape::eval`] is generic over [`Real`] only; [`Real::known`] tells a
+//! point from a range (and gives its bounds), [`Real::from_bounds`] builds the range.
+//! For [`Dual`] numbers, whose gradient needs the field's own gradient bound,
+//! [`eval_field`] looks at the concrete type with [`Any`]: `Dual` over `f64` and over the
+//! ray and cell forms of every arithmetic in [`crate::arith::ArithKind`]. For any other
+//! type (an operation counter) it returns `1 / 0`, which is `+inf` for points and the
+//! whole line for every sound range: sound, if useless.
 
-use crate::search::lipschitz::Dual;
-use arith_core::{Arithmetic, Range, Real};
+use arith_core::dual::Dual;
+use arith_core::{Arithmetic, Known, Real};
 use glam::DVec3;
 use std::any::{Any, TypeId};
 
@@ -49,50 +50,6 @@ macro_rules! for_each_range {
             });
         }
     };
-}
-
-/// What is known about a value of an unknown [`Real`] type.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Known {
-    /// An `f64` point.
-    Point(f64),
-    /// A sound range with these bounds.
-    Range(f64, f64),
-    /// A type this module does not know.
-    Unknown,
-}
-
-/// Whether `x` is a point, a known range (and its bounds) or unknown.
-pub fn known<R: Real>(x: &R) -> Known {
-    let a = x as &dyn Any;
-    if let Some(v) = a.downcast_ref::<f64>() {
-        return Known::Point(*v);
-    }
-    macro_rules! try_range {
-        ($t:ty) => {
-            if let Some(v) = a.downcast_ref::<$t>() {
-                let (lo, hi) = Range::bounds(v);
-                return Known::Range(lo, hi);
-            }
-        };
-    }
-    for_each_range!(try_range);
-    Known::Unknown
-}
-
-/// A value of `R` enclosing `[lo, hi]`: the range itself for known range types, `None`
-/// for points and unknown types.
-pub fn make_range<R: Real>(lo: f64, hi: f64) -> Option<R> {
-    let id = TypeId::of::<R>();
-    macro_rules! try_make {
-        ($t:ty) => {
-            if id == TypeId::of::<$t>() {
-                return cast::<$t, R>(<$t as Range>::from_interval(lo, hi));
-            }
-        };
-    }
-    for_each_range!(try_make);
-    None
 }
 
 /// The whole line for sound ranges (`1/0`, by the [`Range`] contract), `+inf` for points.
@@ -154,13 +111,13 @@ pub fn field_over_box<F: Field3 + ?Sized>(f: &F, b: [(f64, f64); 3]) -> (f64, f6
 /// A field evaluated over any [`Real`]: points exactly, known ranges by
 /// [`field_over_box`], [`Dual`] numbers by the chain rule, unknown types as the whole line.
 pub fn eval_field<F: Field3 + ?Sized, R: Real>(f: &F, x: &R, y: &R, z: &R) -> R {
-    match (known(x), known(y), known(z)) {
+    match (x.known(), y.known(), z.known()) {
         (Known::Point(a), Known::Point(b), Known::Point(c)) => {
             return R::constant(f.value(DVec3::new(a, b, c)));
         }
         (Known::Range(a0, a1), Known::Range(b0, b1), Known::Range(c0, c1)) => {
             let (lo, hi) = field_over_box(f, [(a0, a1), (b0, b1), (c0, c1)]);
-            if let Some(v) = make_range::<R>(lo, hi) {
+            if let Some(v) = R::from_bounds(lo, hi) {
                 return v;
             }
         }
@@ -193,14 +150,14 @@ fn dual_field<F: Field3 + ?Sized, T: Real>(
     z: &Dual<T>,
 ) -> Dual<T> {
     let v = eval_field(f, &x.v, &y.v, &z.v);
-    let partials: [T; 3] = match (known(&x.v), known(&y.v), known(&z.v)) {
+    let partials: [T; 3] = match (x.v.known(), y.v.known(), z.v.known()) {
         (Known::Point(a), Known::Point(b), Known::Point(c)) => {
             let g = f.gradient(DVec3::new(a, b, c));
             [T::constant(g.x), T::constant(g.y), T::constant(g.z)]
         }
         _ => {
             let gb = f.partial_bound();
-            match make_range::<T>(-gb, gb) {
+            match T::from_bounds(-gb, gb) {
                 Some(p) => [p.clone(), p.clone(), p],
                 None => [unknown_value(), unknown_value(), unknown_value()],
             }
@@ -582,14 +539,15 @@ pub fn noise3<R: Real>(n: &Perlin, x: &R, y: &R, z: &R) -> R {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use arith_core::Range;
 
     #[test]
     fn dispatch_tells_points_from_ranges() {
-        assert_eq!(known(&1.5f64), Known::Point(1.5));
+        assert_eq!(1.5f64.known(), Known::Point(1.5));
         let i = arith_ia::Interval::new(-1.0, 2.0);
-        assert_eq!(known(&i), Known::Range(-1.0, 2.0));
-        assert!(make_range::<f64>(0.0, 1.0).is_none());
-        let r: arith_ia::Interval = make_range(0.0, 1.0).unwrap();
+        assert_eq!(i.known(), Known::Range(-1.0, 2.0));
+        assert!(f64::from_bounds(0.0, 1.0).is_none());
+        let r = arith_ia::Interval::from_bounds(0.0, 1.0).unwrap();
         assert_eq!(r.bounds(), (0.0, 1.0));
     }
 

@@ -4,12 +4,10 @@
 //! (eq. 9), the blobby model (eq. 10) and the hypertextures (eqs. 11, 12) with the
 //! opposite sign (negative inside); here each is negated.
 use super::{AnyShape, Model};
-use crate::models::noise::{
-    eval_field, known, Cellular, Field3, Known, Perlin, SparseConvolution, SplitMix64,
-};
+use crate::models::noise::{eval_field, Cellular, Field3, Perlin, SparseConvolution, SplitMix64};
 use crate::search::lipschitz::auto_lipschitz;
 use crate::shape::{Aabb, Shape, View};
-use arith_core::Real;
+use arith_core::{Known, Real};
 use glam::DVec3;
 use std::sync::OnceLock;
 
@@ -96,9 +94,9 @@ fn blobby_point(p: DVec3) -> f64 {
 /// against the supports, and its "localised" evaluation). `None` for points and
 /// unknown types (keep all).
 fn relevant_blobs<R: Real>(x: &R, y: &R, z: &R) -> Option<Vec<bool>> {
-    use crate::search::lipschitz::Dual;
+    use arith_core::dual::Dual;
     use std::any::Any;
-    let bounds = |v: &R| match known(v) {
+    let bounds = |v: &R| match v.known() {
         Known::Range(lo, hi) => Some((lo, hi)),
         _ => (v as &dyn Any)
             .downcast_ref::<Dual<arith_ia::Interval>>()
@@ -184,7 +182,7 @@ impl Shape for GmModel {
             }
             GmModel::Blobby => {
                 if let (Known::Point(px), Known::Point(py), Known::Point(pz)) =
-                    (known(&x), known(&y), known(&z))
+                    (x.known(), y.known(), z.known())
                 {
                     return R::constant(blobby_point(DVec3::new(px, py, pz)));
                 }

@@ -1,15 +1,16 @@
-//! Lipschitz ray casting (Hart's sphere tracing and its overshooting variant), forward
-//! mode dual numbers, and automatic Lipschitz bounds from the range of the gradient.
+//! Lipschitz ray casting (Hart's sphere tracing and its overshooting variant) and
+//! automatic Lipschitz bounds from the range of the gradient (over
+//! [`Dual`]`<Interval>`).
 //!
 //! A Lipschitz bound `λ` of `f` over a convex domain guarantees that the ball of radius
 //! `|f(x)| / λ` around `x` holds no root of `f` inside the domain: for `y` in both,
 //! `|f(y)| >= |f(x)| - λ |x - y| > 0`.
 
 use crate::shape::{Aabb, Shape};
+use arith_core::dual::Dual;
 use arith_core::round::{add_up, mul_up, up};
 use arith_core::{Range, Real};
 use glam::DVec3;
-use std::ops::{Add, Div, Mul, Neg, Sub};
 
 /// The default overshooting factor (the paper's "46%", after Worley and Hart).
 pub const DEFAULT_OVERSHOOT: f64 = 1.46;
@@ -253,217 +254,6 @@ pub fn local_trace<S: Shape + ?Sized>(
     None
 }
 
-/// A forward-mode dual number: a value and its gradient with respect to three inputs,
-/// over any [`Real`]. With `R` a range, evaluating a model over `Dual<R>` on a box gives
-/// an enclosure of its gradient there, hence a Lipschitz bound.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Dual<R> {
-    pub v: R,
-    pub g: [R; 3],
-}
-
-impl<R: Real> Dual<R> {
-    /// The `k`-th input variable with value `v`.
-    pub fn var(v: R, k: usize) -> Self {
-        Dual {
-            v,
-            g: std::array::from_fn(|j| R::constant(if j == k { 1.0 } else { 0.0 })),
-        }
-    }
-    fn map_g(&self, f: impl Fn(&R) -> R) -> [R; 3] {
-        std::array::from_fn(|j| f(&self.g[j]))
-    }
-    /// Value `v`, gradient `g * dv` (the chain rule for a unary function with derivative `dv`).
-    fn chain(&self, v: R, dv: R) -> Self {
-        Dual {
-            v,
-            g: self.map_g(|g| g.clone() * dv.clone()),
-        }
-    }
-}
-
-/// `a ∪ b` as one value: the hull for known ranges, either one for points (a valid
-/// one-sided derivative), the whole line otherwise.
-fn hull<R: Real>(a: &R, b: &R) -> R {
-    use crate::models::noise::{known, make_range, Known};
-    match (known(a), known(b)) {
-        (Known::Point(_), Known::Point(_)) => a.clone(),
-        (Known::Range(a0, a1), Known::Range(b0, b1)) => {
-            make_range(a0.min(b0), a1.max(b1)).unwrap_or_else(crate::models::noise::unknown_value)
-        }
-        _ => crate::models::noise::unknown_value(),
-    }
-}
-
-/// Which side of `min(a, b)` is taken: `Some(true)` for `a`, `Some(false)` for `b`,
-/// `None` when undecided (overlapping ranges, unknown types).
-fn min_side<R: Real>(a: &R, b: &R) -> Option<bool> {
-    use crate::models::noise::{known, Known};
-    match (known(a), known(b)) {
-        (Known::Point(x), Known::Point(y)) => Some(x <= y),
-        (Known::Range(a0, a1), Known::Range(b0, b1)) => {
-            if a1 <= b0 {
-                Some(true)
-            } else if b1 <= a0 {
-                Some(false)
-            } else {
-                None
-            }
-        }
-        _ => None,
-    }
-}
-
-fn pick<R: Real>(a: &Dual<R>, b: &Dual<R>, side: Option<bool>, v: R) -> Dual<R> {
-    match side {
-        Some(true) => Dual { v, g: a.g.clone() },
-        Some(false) => Dual { v, g: b.g.clone() },
-        None => Dual {
-            v,
-            g: std::array::from_fn(|j| hull(&a.g[j], &b.g[j])),
-        },
-    }
-}
-
-impl<R: Real> Add for Dual<R> {
-    type Output = Self;
-    fn add(self, o: Self) -> Self {
-        Dual {
-            v: self.v + o.v,
-            g: std::array::from_fn(|j| self.g[j].clone() + o.g[j].clone()),
-        }
-    }
-}
-impl<R: Real> Sub for Dual<R> {
-    type Output = Self;
-    fn sub(self, o: Self) -> Self {
-        Dual {
-            v: self.v - o.v,
-            g: std::array::from_fn(|j| self.g[j].clone() - o.g[j].clone()),
-        }
-    }
-}
-impl<R: Real> Mul for Dual<R> {
-    type Output = Self;
-    #[allow(clippy::suspicious_arithmetic_impl)] // the product rule
-    fn mul(self, o: Self) -> Self {
-        let g = std::array::from_fn(|j| {
-            self.g[j].clone() * o.v.clone() + o.g[j].clone() * self.v.clone()
-        });
-        Dual { v: self.v * o.v, g }
-    }
-}
-impl<R: Real> Div for Dual<R> {
-    type Output = Self;
-    #[allow(clippy::suspicious_arithmetic_impl)] // the quotient rule
-    fn div(self, o: Self) -> Self {
-        let q = self.v.clone() / o.v.clone();
-        let g =
-            std::array::from_fn(|j| (self.g[j].clone() - o.g[j].clone() * q.clone()) / o.v.clone());
-        Dual { v: q, g }
-    }
-}
-impl<R: Real> Neg for Dual<R> {
-    type Output = Self;
-    fn neg(self) -> Self {
-        Dual {
-            v: -self.v,
-            g: self.g.map(|g| -g),
-        }
-    }
-}
-impl<R: Real> Add<f64> for Dual<R> {
-    type Output = Self;
-    fn add(self, c: f64) -> Self {
-        Dual {
-            v: self.v + c,
-            g: self.g,
-        }
-    }
-}
-impl<R: Real> Sub<f64> for Dual<R> {
-    type Output = Self;
-    fn sub(self, c: f64) -> Self {
-        Dual {
-            v: self.v - c,
-            g: self.g,
-        }
-    }
-}
-impl<R: Real> Mul<f64> for Dual<R> {
-    type Output = Self;
-    fn mul(self, c: f64) -> Self {
-        Dual {
-            v: self.v * c,
-            g: self.g.map(|g| g * c),
-        }
-    }
-}
-impl<R: Real> Div<f64> for Dual<R> {
-    type Output = Self;
-    fn div(self, c: f64) -> Self {
-        Dual {
-            v: self.v / c,
-            g: self.g.map(|g| g / c),
-        }
-    }
-}
-
-impl<R: Real> Real for Dual<R> {
-    fn constant(c: f64) -> Self {
-        Dual {
-            v: R::constant(c),
-            g: std::array::from_fn(|_| R::constant(0.0)),
-        }
-    }
-    fn sqr(&self) -> Self {
-        self.chain(self.v.sqr(), self.v.clone() * 2.0)
-    }
-    fn powi(&self, n: i32) -> Self {
-        if n == 0 {
-            return Self::constant(1.0);
-        }
-        self.chain(self.v.powi(n), self.v.powi(n - 1) * n as f64)
-    }
-    fn sqrt(&self) -> Self {
-        // d sqrt(x) = 1 / (2 sqrt x); over a range reaching 0 this is unbounded (sound).
-        let s = self.v.sqrt();
-        self.chain(s.clone(), (s * 2.0).recip())
-    }
-    fn recip(&self) -> Self {
-        let r = self.v.recip();
-        self.chain(r.clone(), -r.sqr())
-    }
-    fn exp(&self) -> Self {
-        let e = self.v.exp();
-        self.chain(e.clone(), e)
-    }
-    fn ln(&self) -> Self {
-        self.chain(self.v.ln(), self.v.recip())
-    }
-    fn sin(&self) -> Self {
-        self.chain(self.v.sin(), self.v.cos())
-    }
-    fn cos(&self) -> Self {
-        self.chain(self.v.cos(), -self.v.sin())
-    }
-    fn abs(&self) -> Self {
-        // |x| = max(x, -x).
-        self.max(&-self.clone())
-    }
-    fn min(&self, o: &Self) -> Self {
-        pick(self, o, min_side(&self.v, &o.v), self.v.min(&o.v))
-    }
-    fn max(&self, o: &Self) -> Self {
-        pick(
-            self,
-            o,
-            min_side(&self.v, &o.v).map(|a_is_min| !a_is_min),
-            self.v.max(&o.v),
-        )
-    }
-}
-
 /// An upper bound of `|grad f|` over the box `b`, from one evaluation over
 /// `Dual<Interval>`: `sqrt(sum_k max(|lo_k|, |hi_k|)^2)`, rounded up (`+inf` when the
 /// enclosure is unbounded).
@@ -520,16 +310,6 @@ mod tests {
         fn eval<R: Real>(&self, x: R, y: R, z: R) -> R {
             (x.sqr() + y.sqr() + z.sqr()).sqrt().rsub(1.0)
         }
-    }
-
-    #[test]
-    fn dual_gradient_of_a_product() {
-        // f = x^2 y + sin z: grad = (2xy, x^2, cos z)
-        let (x, y, z) = (Dual::var(1.5, 0), Dual::var(-2.0, 1), Dual::var(0.3, 2));
-        let f = x.sqr() * y + z.sin();
-        assert!((f.g[0] - 2.0 * 1.5 * -2.0).abs() < 1e-12);
-        assert!((f.g[1] - 2.25).abs() < 1e-12);
-        assert!((f.g[2] - 0.3f64.cos()).abs() < 1e-12);
     }
 
     #[test]
