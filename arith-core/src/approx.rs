@@ -23,7 +23,10 @@
 //! arithmetic and by the fallbacks here.
 
 use crate::affine_round;
-use crate::round::{self, down, libm_enclose, two_sum, up};
+use crate::round::{
+    self, add_hi, add_lo, down, libm_enclose, mul_hi, mul_lo, mul_lo_hi, prod_err, sub_hi, sub_lo,
+    up,
+};
 
 /// `f(x) ∈ alpha*x + zeta ± delta` on the interval it was built for.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -119,7 +122,7 @@ pub fn powi(a: f64, b: f64, n: i32) -> Approx {
     let df = |x: f64| {
         let (lo, hi) = pow_enc(x, nu - 1);
         if lo == hi {
-            mul_pair(lo, nf)
+            mul_lo_hi(lo, nf)
         } else {
             (mul_lo(lo, nf), mul_hi(hi, nf))
         }
@@ -609,19 +612,6 @@ pub fn range_cos(a: f64, b: f64) -> (f64, f64) {
     range_trig(Trig::Cos, a, b, 0.0, PI)
 }
 
-// ---------------------------------------------------------------------------------
-// Directed operations that stay exact when the exact result is representable (so that
-// hand-checkable cases such as `sqr` on `[1, 3]` come out exact), and that never return
-// NaN: an undefined bound becomes the infinite bound on its side.
-// ---------------------------------------------------------------------------------
-
-/// Products whose magnitude is at least this have an exactly representable error term.
-const EXACT_MIN: f64 = 1.0e-280;
-/// Factors below this magnitude can be split (Veltkamp) without overflow.
-const SPLIT_MAX: f64 = 1.0e299;
-/// Factors at least this large split without underflow.
-const FACTOR_MIN: f64 = 1.0e-290;
-
 /// A slope too small to matter (subnormal) is replaced by 0: a subnormal `alpha` carries
 /// few significant bits, so `alpha*x` would only add rounding noise.
 fn flush(alpha: f64) -> f64 {
@@ -630,102 +620,6 @@ fn flush(alpha: f64) -> f64 {
     } else {
         alpha
     }
-}
-
-/// The exact error `a*b - p` of `p = fl(a*b)`, for `EXACT_MIN <= |p|` and
-/// `|a|, |b| < SPLIT_MAX`: one FMA where the target has it, else Dekker's product
-/// (a call to a software `fma` would cost more than the rest of an approximation).
-#[inline]
-fn prod_err(a: f64, b: f64, p: f64) -> f64 {
-    if cfg!(target_feature = "fma") {
-        a.mul_add(b, -p)
-    } else {
-        dekker_err(a, b, p)
-    }
-}
-
-/// Dekker's error of `p = fl(a*b)` with Veltkamp splitting (exact under the same
-/// conditions as [`prod_err`]).
-#[inline]
-fn dekker_err(a: f64, b: f64, p: f64) -> f64 {
-    let split = |x: f64| {
-        let c = 134_217_729.0 * x; // 2^27 + 1
-        let hi = c - (c - x);
-        (hi, x - hi)
-    };
-    let (ah, al) = split(a);
-    let (bh, bl) = split(b);
-    ((ah * bh - p) + ah * bl + al * bh) + al * bl
-}
-
-/// Lower and upper bound of `a * b` from one product (exact when representable;
-/// `0 * inf` gives `(-inf, +inf)`).
-#[inline]
-fn mul_pair(a: f64, b: f64) -> (f64, f64) {
-    if (a == 0.0 && b.is_finite()) || (b == 0.0 && a.is_finite()) {
-        return (0.0, 0.0);
-    }
-    let p = a * b;
-    let (ma, mb) = (a.abs(), b.abs());
-    // Normal, splittable factors and a product far from underflow: the error term is exact.
-    if p.is_finite()
-        && p.abs() >= EXACT_MIN
-        && (FACTOR_MIN..SPLIT_MAX).contains(&ma)
-        && (FACTOR_MIN..SPLIT_MAX).contains(&mb)
-    {
-        let e = prod_err(a, b, p);
-        // Selects rather than branches: the sign of `e` is data-dependent noise.
-        let (dn, upv) = (p.next_down(), p.next_up());
-        (if e < 0.0 { dn } else { p }, if e > 0.0 { upv } else { p })
-    } else {
-        (round::mul_down(a, b), round::mul_up(a, b))
-    }
-}
-
-/// An upper bound of `a * b` (exact when representable; `0 * inf` gives `+inf`).
-fn mul_hi(a: f64, b: f64) -> f64 {
-    mul_pair(a, b).1
-}
-
-/// A lower bound of `a * b` (exact when representable; `0 * inf` gives `-inf`).
-fn mul_lo(a: f64, b: f64) -> f64 {
-    mul_pair(a, b).0
-}
-
-/// An upper bound of `a + b` (exact when representable).
-fn add_hi(a: f64, b: f64) -> f64 {
-    let (s, e) = two_sum(a, b);
-    if s.is_finite() && e.is_finite() {
-        if e > 0.0 {
-            up(s)
-        } else {
-            s
-        }
-    } else {
-        up(s)
-    }
-}
-
-/// A lower bound of `a + b` (exact when representable).
-fn add_lo(a: f64, b: f64) -> f64 {
-    let (s, e) = two_sum(a, b);
-    if s.is_finite() && e.is_finite() {
-        if e < 0.0 {
-            down(s)
-        } else {
-            s
-        }
-    } else {
-        down(s)
-    }
-}
-
-fn sub_hi(a: f64, b: f64) -> f64 {
-    add_hi(a, -b)
-}
-
-fn sub_lo(a: f64, b: f64) -> f64 {
-    add_lo(a, -b)
 }
 
 /// Enclosure of `d * t` for `d ∈ [d.0, d.1]`, `t ∈ [t.0, t.1]` with `t.0 <= 0 <= t.1`
@@ -805,7 +699,7 @@ fn pow_enc(x: f64, n: u32) -> (f64, f64) {
 /// while both are still exact).
 fn mul_nonneg(x: (f64, f64), y: (f64, f64)) -> (f64, f64) {
     if x.0 == x.1 && y.0 == y.1 {
-        let (lo, hi) = mul_pair(x.0, y.0);
+        let (lo, hi) = mul_lo_hi(x.0, y.0);
         (lo.max(0.0), hi)
     } else {
         (mul_lo(x.0, y.0).max(0.0), mul_hi(x.1, y.1))
@@ -1367,36 +1261,6 @@ mod tests {
     }
 
     #[test]
-    fn dekker_error_matches_fma() {
-        // Pseudo-random normal factors across the allowed magnitudes; std's mul_add is a
-        // correctly rounded FMA (hardware or software), so it gives the exact error.
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
-        for _ in 0..20_000 {
-            let m = |r: u64| 1.0 + (r >> 11) as f64 / (1u64 << 53) as f64;
-            let (ra, rb, rs) = (next(), next(), next());
-            let ea = (ra % 1100) as i32 - 600;
-            let eb = (rb % 1100) as i32 - 600;
-            let a = m(ra) * 2f64.powi(ea) * if rs & 1 == 0 { 1.0 } else { -1.0 };
-            let b = m(rb) * 2f64.powi(eb);
-            let p = a * b;
-            let usable = p.is_finite()
-                && p.abs() >= EXACT_MIN
-                && (FACTOR_MIN..SPLIT_MAX).contains(&a.abs())
-                && (FACTOR_MIN..SPLIT_MAX).contains(&b.abs());
-            if !usable {
-                continue;
-            }
-            assert_eq!(dekker_err(a, b, p), a.mul_add(b, -p), "{a:e} * {b:e}");
-        }
-    }
-
-    #[test]
     fn tangent_bound_holds_for_any_tangent_point() {
         // sqrt on [1, 4], alpha = 1/3: g = sqrt(x) - x/3 peaks at 3/4 (x = 9/4). A tangent
         // at any p in [1, 4] bounds it from above; at p = 1 it is 2/3 + (1/2 - 1/3)*3 = 7/6,
@@ -1497,6 +1361,23 @@ mod tests {
         // 0.1 + 0.2 style inexact midpoints: the half-widths are still covered.
         let ap = Approx::from_range(0.1, 0.7);
         assert!(ap.zeta - ap.delta <= 0.1 && ap.zeta + ap.delta >= 0.7);
+    }
+
+    /// Extreme values are as tight as the shared tight bounds make them (these bounds
+    /// used to be stepped outward unconditionally there): exact tiny products stay exact,
+    /// infinite arguments give exact infinite bounds, and a difference whose error term
+    /// overflows moves one bound only.
+    #[test]
+    fn extreme_values_stay_tight() {
+        let t = 2f64.powi(-500);
+        assert_eq!(range_powi(t, t, 2), (t * t, t * t));
+        assert_eq!(sqr(t, t), zero_width(t * t));
+        let inf = f64::INFINITY;
+        assert_eq!(range_powi(inf, inf, 2), (inf, inf));
+        assert_eq!(range_powi(-inf, -inf, 3), (-inf, -inf));
+        let big = 3.9820977904504927e307;
+        let (lo, hi) = g_enc((big, big), 1.0, f64::MAX);
+        assert!(lo < hi && lo.next_up() == hi, "[{lo:e}, {hi:e}]");
     }
 
     #[test]
