@@ -56,6 +56,8 @@
 //! assert!(lo <= v && v <= hi && ilo <= v && v <= ihi);
 //! ```
 
+#![forbid(unsafe_code)]
+
 pub mod affine_round;
 pub mod approx;
 pub mod dual;

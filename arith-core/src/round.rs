@@ -1,10 +1,21 @@
-//! Rounding helpers. We never switch the FPU rounding mode (undefined behaviour in
-//! Rust); every operation rounds to nearest and we bound its error instead.
+//! The one rounding vocabulary of the workspace: outward bounds of single operations,
+//! error-free transformations and the libm allowance, shared by the affine
+//! approximations ([`crate::approx`]), interval arithmetic and the affine forms. We never
+//! switch the FPU rounding mode (undefined behaviour in Rust); every operation rounds to
+//! nearest and we bound its error instead.
 //!
 //! Facts used throughout (IEEE 754 binary64, round to nearest):
 //! - the exact result `x` of one `+ - * /` or `sqrt` and its rounded value `r` satisfy
 //!   `|x - r| <= ulp(r)/2 <= max(|r| * 2^-53, 2^-1074)` ([`err`]);
 //! - hence `next_down(r) <= x <= next_up(r)` ([`add_up`], [`mul_down`], ...).
+//!
+//! Two families of directed operations, both never NaN (`-inf` for an undefined lower
+//! bound, `+inf` for an undefined upper bound):
+//! - *step* bounds `add_up`, `mul_down`, ...: the rounded result moved one ulp outward,
+//!   unconditionally (cheap; for small correction terms where exactness buys nothing);
+//! - *tight* bounds `add_lo`, `mul_hi`, ... ([`tight`]): the floor or ceiling in `f64` of
+//!   the exact result, so exact operations stay exact (every interval bound, and the
+//!   bounds of the affine approximations at their chosen points).
 
 /// `2^-53`, the unit roundoff of round-to-nearest binary64.
 pub const U: f64 = 1.0 / 9_007_199_254_740_992.0;
@@ -12,7 +23,7 @@ pub const U: f64 = 1.0 / 9_007_199_254_740_992.0;
 pub const ETA: f64 = f64::from_bits(1);
 
 /// Upper bound on the rounding error of one correctly rounded operation whose rounded
-/// result is `r`. Infinite (or NaN-free infinite) when `r` is not finite.
+/// result is `r` (`+inf` when `r` is infinite or NaN).
 #[inline]
 pub fn err(r: f64) -> f64 {
     if r.is_finite() {
@@ -73,27 +84,27 @@ pub fn down_finite(x: f64) -> f64 {
     -up_finite(-x)
 }
 
-/// An upper bound of `a + b`.
+/// Step upper bound of `a + b`: `fl(a + b)` one ulp up (`+inf` for a NaN result).
 #[inline]
 pub fn add_up(a: f64, b: f64) -> f64 {
     up(a + b)
 }
-/// A lower bound of `a + b`.
+/// Step lower bound of `a + b`: `fl(a + b)` one ulp down (`-inf` for a NaN result).
 #[inline]
 pub fn add_down(a: f64, b: f64) -> f64 {
     down(a + b)
 }
-/// An upper bound of `a - b`.
+/// Step upper bound of `a - b`: `fl(a - b)` one ulp up (`+inf` for a NaN result).
 #[inline]
 pub fn sub_up(a: f64, b: f64) -> f64 {
     up(a - b)
 }
-/// A lower bound of `a - b`.
+/// Step lower bound of `a - b`: `fl(a - b)` one ulp down (`-inf` for a NaN result).
 #[inline]
 pub fn sub_down(a: f64, b: f64) -> f64 {
     down(a - b)
 }
-/// An upper bound of `a * b`.
+/// Step upper bound of `a * b`: `fl(a * b)` one ulp up (`+inf` for `0 * inf` or NaN).
 #[inline]
 pub fn mul_up(a: f64, b: f64) -> f64 {
     let p = a * b;
@@ -104,7 +115,7 @@ pub fn mul_up(a: f64, b: f64) -> f64 {
         up(p)
     }
 }
-/// A lower bound of `a * b`.
+/// Step lower bound of `a * b`: `fl(a * b)` one ulp down (`-inf` for `0 * inf` or NaN).
 #[inline]
 pub fn mul_down(a: f64, b: f64) -> f64 {
     let p = a * b;
@@ -114,16 +125,22 @@ pub fn mul_down(a: f64, b: f64) -> f64 {
         down(p)
     }
 }
-/// An upper bound of `a / b`.
+/// Step upper bound of `a / b`: `fl(a / b)` one ulp up (`+inf` for a NaN result).
 #[inline]
 pub fn div_up(a: f64, b: f64) -> f64 {
     up(a / b)
 }
-/// A lower bound of `a / b`.
+/// Step lower bound of `a / b`: `fl(a / b)` one ulp down (`-inf` for a NaN result).
 #[inline]
 pub fn div_down(a: f64, b: f64) -> f64 {
     down(a / b)
 }
+
+pub mod tight;
+pub use tight::{
+    add_hi, add_lo, div_hi, div_lo, mul_hi, mul_lo, mul_lo_hi, pow_hi_nonneg, pow_lo_nonneg,
+    sub_hi, sub_lo,
+};
 
 /// Error-free sum (Knuth's TwoSum): `s + e == a + b` exactly, `s = fl(a + b)`.
 #[inline]
@@ -141,6 +158,39 @@ pub fn two_prod(a: f64, b: f64) -> (f64, f64) {
     let p = a * b;
     let e = a.mul_add(b, -p);
     (p, e)
+}
+
+/// Products whose magnitude is at least this have an exactly representable error term.
+pub(crate) const EXACT_MIN: f64 = 1.0e-280;
+/// Factors below this magnitude can be split (Veltkamp) without overflow.
+pub(crate) const SPLIT_MAX: f64 = 1.0e299;
+/// Factors at least this large split without underflow.
+pub(crate) const FACTOR_MIN: f64 = 1.0e-290;
+
+/// The exact error `a*b - p` of `p = fl(a*b)`, for `EXACT_MIN <= |p|` and
+/// `FACTOR_MIN <= |a|, |b| < SPLIT_MAX`: one FMA where the target has it, else Dekker's
+/// product (a call to a software `fma` would cost more than the rest of an approximation).
+#[inline]
+pub(crate) fn prod_err(a: f64, b: f64, p: f64) -> f64 {
+    if cfg!(target_feature = "fma") {
+        a.mul_add(b, -p)
+    } else {
+        dekker_err(a, b, p)
+    }
+}
+
+/// Dekker's error of `p = fl(a*b)` with Veltkamp splitting (exact under the conditions
+/// of [`prod_err`]).
+#[inline]
+pub(crate) fn dekker_err(a: f64, b: f64, p: f64) -> f64 {
+    let split = |x: f64| {
+        let c = 134_217_729.0 * x; // 2^27 + 1
+        let hi = c - (c - x);
+        (hi, x - hi)
+    };
+    let (ah, al) = split(a);
+    let (bh, bl) = split(b);
+    ((ah * bh - p) + ah * bl + al * bh) + al * bl
 }
 
 /// Relative error we allow std's `exp`, `ln`, `sin`, `cos` (whose precision Rust does
@@ -249,6 +299,36 @@ mod tests {
         assert!(mul_down(0.0, f64::INFINITY) == f64::NEG_INFINITY);
         assert_eq!(up(f64::NAN), f64::INFINITY);
         assert_eq!(down(f64::NAN), f64::NEG_INFINITY);
+    }
+
+    #[test]
+    fn dekker_error_matches_fma() {
+        // Pseudo-random normal factors across the allowed magnitudes; std's mul_add is a
+        // correctly rounded FMA (hardware or software), so it gives the exact error.
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        for _ in 0..20_000 {
+            let m = |r: u64| 1.0 + (r >> 11) as f64 / (1u64 << 53) as f64;
+            let (ra, rb, rs) = (next(), next(), next());
+            let ea = (ra % 1100) as i32 - 600;
+            let eb = (rb % 1100) as i32 - 600;
+            let a = m(ra) * 2f64.powi(ea) * if rs & 1 == 0 { 1.0 } else { -1.0 };
+            let b = m(rb) * 2f64.powi(eb);
+            let p = a * b;
+            let usable = p.is_finite()
+                && p.abs() >= EXACT_MIN
+                && (FACTOR_MIN..SPLIT_MAX).contains(&a.abs())
+                && (FACTOR_MIN..SPLIT_MAX).contains(&b.abs());
+            if !usable {
+                continue;
+            }
+            assert_eq!(dekker_err(a, b, p), a.mul_add(b, -p), "{a:e} * {b:e}");
+        }
     }
 
     #[test]

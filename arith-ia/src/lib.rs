@@ -27,11 +27,14 @@
 //! assert_eq!((x / Interval::new(-1.0, 1.0)).bounds(), (f64::NEG_INFINITY, f64::INFINITY));
 //! ```
 
+#![forbid(unsafe_code)]
+
 use arith_core::{approx, Arithmetic, Range, Real};
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
-mod dir;
-use dir::{add_hi, add_lo, div_hi, div_lo, mul_hi, mul_lo, pow_hi_nonneg, pow_lo_nonneg};
+use arith_core::round::{
+    add_hi, add_lo, div_hi, div_lo, mul_hi, mul_lo, pow_hi_nonneg, pow_lo_nonneg,
+};
 
 /// A closed interval `[lo, hi]` of the extended reals.
 ///
@@ -83,8 +86,9 @@ impl Interval {
         Interval::new(c, c)
     }
 
-    /// Builds from bounds computed by directed helpers: a NaN lower bound becomes `-inf`
-    /// and a NaN upper bound `+inf`, so an undefined bound widens instead of poisoning.
+    /// Builds from bounds computed by the directed helpers of [`arith_core::round`] (never
+    /// NaN) or the shared range enclosures: a NaN lower bound would become `-inf` and a NaN
+    /// upper bound `+inf`, so an undefined bound widens instead of poisoning.
     #[inline]
     fn from_dir(lo: f64, hi: f64) -> Interval {
         let lo = if lo.is_nan() { f64::NEG_INFINITY } else { lo };
@@ -99,12 +103,8 @@ impl Interval {
 
     /// `hi - lo`, rounded up (`+inf` for unbounded intervals).
     pub fn width(&self) -> f64 {
-        let w = add_hi(self.hi, -self.lo);
-        if w.is_nan() {
-            f64::INFINITY
-        } else {
-            w
-        }
+        // `inf - inf` (an interval at one infinity) is undefined: `add_hi` gives `+inf`.
+        add_hi(self.hi, -self.lo)
     }
 
     /// Whether `x` lies in `[lo, hi]`.
@@ -285,25 +285,17 @@ impl Div<f64> for Interval {
 
 arith_core::impl_f64_lhs_ops!(Interval);
 
-/// The minimum of four bounds; a NaN (undefined product) makes the result NaN so the
-/// caller widens it to `-inf` (`f64::min` would silently drop it).
+/// The minimum of four bounds (never NaN: the directed helpers widen undefined bounds
+/// to the infinite one on their side, and `f64::min` would silently drop a NaN).
 #[inline]
 fn min4(a: f64, b: f64, c: f64, d: f64) -> f64 {
-    if a.is_nan() || b.is_nan() || c.is_nan() || d.is_nan() {
-        f64::NAN
-    } else {
-        a.min(b).min(c.min(d))
-    }
+    a.min(b).min(c.min(d))
 }
 
-/// The maximum of four bounds; NaN propagates as in [`min4`].
+/// The maximum of four bounds (never NaN, as in [`min4`]).
 #[inline]
 fn max4(a: f64, b: f64, c: f64, d: f64) -> f64 {
-    if a.is_nan() || b.is_nan() || c.is_nan() || d.is_nan() {
-        f64::NAN
-    } else {
-        a.max(b).max(c.max(d))
-    }
+    a.max(b).max(c.max(d))
 }
 
 impl Real for Interval {
