@@ -16,9 +16,21 @@ pub struct PaperRow {
     pub height: u32,
     /// All / Non-affine / Multiplications.
     pub ops: OpCounts,
-    /// Seconds for IA, AA, RAA*, RevAA (in [`tracer::arith::ArithKind::ALL`] order);
-    /// `None` where the paper only says `>50000`.
+    /// The paper's seconds in its column order ([`PAPER_COLUMNS`]); `None` where the
+    /// paper only says `>50000`. Read them by arithmetic with [`PaperRow::seconds_of`].
     pub seconds: [Option<f64>; 4],
+}
+
+/// The arithmetics of the paper's columns, by their command-line names.
+pub const PAPER_COLUMNS: [&str; 4] = ["ia", "aa", "raa", "revaa"];
+
+impl PaperRow {
+    /// The paper's seconds for arithmetic `k`; `None` for an arithmetic the paper has no
+    /// column for, or where it only says `>50000`.
+    pub fn seconds_of(&self, k: tracer::arith::ArithKind) -> Option<f64> {
+        let i = PAPER_COLUMNS.iter().position(|&n| n == k.name())?;
+        self.seconds[i]
+    }
 }
 
 const fn ops(all: u64, non_affine: u64, mul: u64) -> OpCounts {

@@ -223,8 +223,7 @@ impl Row {
     }
     fn speedup_of(&self, k: ArithKind, ours: f64) -> Option<f64> {
         let p = self.paper?;
-        let i = ArithKind::ALL.iter().position(|&a| a == k)?;
-        let ps = p.seconds[i]?;
+        let ps = p.seconds_of(k)?;
         let ours_at_paper_res =
             ours * (p.width as f64 * p.height as f64) / (self.width as f64 * self.height as f64);
         (ours_at_paper_res > 0.0).then(|| ps / ours_at_paper_res)
@@ -344,7 +343,7 @@ pub fn render_cancellable(
     o.culling = culling;
     o.pruning = true;
     o.shadows = false;
-    o.progress = false;
+    o.progress = None;
     o.deadline = Some(Instant::now() + budget);
     // The deadline is checked between tiles, so a stopped render overshoots its budget
     // by at most a tile per thread. Every render here uses the same tile, so culling
@@ -822,7 +821,6 @@ pub fn markdown(r: &Report) -> String {
         };
         let _ = write!(s, "| {} | {}x{} |", p.label, p.width, p.height);
         for k in &r.kinds {
-            let i = ArithKind::ALL.iter().position(|a| a == k).unwrap_or(0);
             let sp = match (row.speedup(*k), row.cell(*k)) {
                 (Some(x), Some(c)) if c.stopped => format!("< {x:.0}x"),
                 (Some(x), _) if x >= 10.0 => format!("{x:.0}x"),
@@ -834,7 +832,7 @@ pub fn markdown(r: &Report) -> String {
                 Some(x) => format!("{x:.1}x"),
                 None => "n/a".into(),
             };
-            let _ = write!(s, " {} | {sp} / {cpu} |", fmt_paper_secs(p.seconds[i]));
+            let _ = write!(s, " {} | {sp} / {cpu} |", fmt_paper_secs(p.seconds_of(*k)));
         }
         s.push('\n');
     }
@@ -941,10 +939,6 @@ pub fn csv(r: &Report) -> String {
     for row in &r.rows {
         for c in &row.cells {
             let p = row.paper;
-            let i = ArithKind::ALL
-                .iter()
-                .position(|&a| a == c.kind)
-                .unwrap_or(0);
             let opt = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x}"));
             let runs: Vec<String> = c.runs.iter().map(|x| format!("{x:.6}")).collect();
             // Counts of a cell never measured (interrupted) are left empty, not 0.
@@ -973,7 +967,7 @@ pub fn csv(r: &Report) -> String {
                 opt(row.ratio_to_revaa(c.kind)),
                 p.map_or(String::new(), |p| p.width.to_string()),
                 p.map_or(String::new(), |p| p.height.to_string()),
-                opt(p.and_then(|p| p.seconds[i])),
+                opt(p.and_then(|p| p.seconds_of(c.kind))),
                 opt(row.speedup(c.kind)),
                 row.reference.map_or("", |k| k.name()),
                 c.mask_diff.map_or(String::new(), |n| n.to_string()),

@@ -15,7 +15,10 @@ pub mod arith;
 pub use arith::{arith_aa, arith_core, arith_ia, arith_raa, arith_revaa};
 pub use glam;
 pub mod camera;
+#[cfg(feature = "cli")]
+pub mod cli;
 pub mod interrupt;
+pub mod lipschitz_bound;
 pub mod models;
 pub mod progressive;
 pub mod render;

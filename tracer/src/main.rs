@@ -6,13 +6,13 @@
 
 use arith_core::{Arithmetic, Range};
 use clap::{Parser, Subcommand};
-use glam::DVec3;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use tracer::arith::ArithKind;
+use tracer::cli::{model_source, parse_positive, parse_vec3};
 use tracer::render::output::{write_depth, write_png};
 use tracer::render::{render_kind, RenderOptions};
-use tracer::shape::{Aabb, Shape, View};
+use tracer::shape::{Aabb, Shape};
 
 #[derive(Parser, Debug)]
 #[command(
@@ -34,7 +34,7 @@ enum Cmd {
     /// List the models with their domain and default view.
     List,
     /// Progressive refinement previewer (Lipschitz cone tracing).
-    Preview(tracer::progressive::PreviewArgs),
+    Preview(tracer::cli::preview::PreviewArgs),
 }
 
 #[derive(clap::Args, Debug)]
@@ -43,10 +43,10 @@ struct RenderArgs {
     model: Option<String>,
     /// A formula over x, y, z (f >= 0 inside), e.g. "1 - x^2 - y^2 - z^2"; its domain
     /// defaults to [-2, 2]^3 (see --domain), its view frames the domain.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     expr: Option<String>,
-    /// Arithmetic: ia, aa, raa, revaa.
-    #[arg(long, default_value = "revaa")]
+    /// Arithmetic.
+    #[arg(long, default_value = "revaa", help = arith_help(false))]
     arith: String,
     /// Image size WxH.
     #[arg(long, default_value = "640x480", allow_hyphen_values = true)]
@@ -84,18 +84,33 @@ struct RenderArgs {
     /// Trace shadow rays towards the light.
     #[arg(long)]
     shadows: bool,
+    /// No progress bar.
+    #[arg(long, short)]
+    quiet: bool,
+}
+
+/// The `--arith` help text, listing the arithmetics of the one list.
+fn arith_help(all: bool) -> String {
+    let names = ArithKind::names();
+    if all {
+        format!("Arithmetic: {names}, or all")
+    } else {
+        format!("Arithmetic: {names}")
+    }
 }
 
 #[derive(clap::Args, Debug)]
 struct RangeArgs {
+    /// Model name (see `tracer list`); or give --expr.
+    model: Option<String>,
     /// A formula over x, y, z.
-    #[arg(long)]
-    expr: String,
-    /// The box XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX.
+    #[arg(long, allow_hyphen_values = true)]
+    expr: Option<String>,
+    /// The box XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX (default: the model's domain; [-2, 2]^3 for
+    /// a formula).
     #[arg(long = "box", allow_hyphen_values = true)]
-    bbox: String,
-    /// Arithmetic: ia, aa, raa, revaa or all.
-    #[arg(long, default_value = "all")]
+    bbox: Option<String>,
+    #[arg(long, default_value = "all", help = arith_help(true))]
     arith: String,
     /// Print JSON: [{"arith": "revaa", "lo": .., "hi": ..}, ...] (null for an infinite bound).
     #[arg(long)]
@@ -113,7 +128,7 @@ fn main() -> ExitCode {
         }
         Cmd::Preview(a) => {
             tracer::interrupt::install();
-            tracer::progressive::run_preview(a)
+            tracer::cli::preview::run_preview(a)
         }
     };
     match res {
@@ -128,40 +143,6 @@ fn main() -> ExitCode {
     }
 }
 
-/// Parses `n` comma-separated finite numbers for `flag`.
-fn parse_list(flag: &str, s: &str, n: usize) -> Result<Vec<f64>, String> {
-    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
-    if parts.len() != n {
-        return Err(format!(
-            "{flag} '{s}': expected {n} comma-separated numbers, got {}",
-            parts.len()
-        ));
-    }
-    parts
-        .iter()
-        .map(|p| match p.parse::<f64>() {
-            Ok(v) if v.is_finite() => Ok(v),
-            _ => Err(format!("{flag} '{s}': '{p}' is not a finite number")),
-        })
-        .collect()
-}
-
-fn parse_vec3(flag: &str, s: &str) -> Result<DVec3, String> {
-    let v = parse_list(flag, s, 3)?;
-    Ok(DVec3::new(v[0], v[1], v[2]))
-}
-
-fn parse_box(flag: &str, s: &str) -> Result<Aabb, String> {
-    let v = parse_list(flag, s, 6)?;
-    let b = Aabb::new(DVec3::new(v[0], v[1], v[2]), DVec3::new(v[3], v[4], v[5]));
-    if !(b.min.cmplt(b.max).all()) {
-        return Err(format!(
-            "{flag} '{s}': each minimum must be below its maximum"
-        ));
-    }
-    Ok(b)
-}
-
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
     let err =
         || format!("--size '{s}': expected WxH with positive integers up to 16384, e.g. 640x480");
@@ -174,62 +155,15 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
     Ok((w, h))
 }
 
-fn parse_positive(flag: &str, s: &str) -> Result<f64, String> {
-    match s.trim().parse::<f64>() {
-        Ok(v) if v > 0.0 && v.is_finite() => Ok(v),
-        _ => Err(format!("{flag} '{s}': expected a positive number")),
-    }
-}
-
-/// A three-quarter view framing `domain`'s bounding sphere.
-fn view_for_box(b: &Aabb) -> View {
-    let c = (b.min + b.max) * 0.5;
-    let r = (b.max - b.min).length() * 0.5;
-    let fov: f64 = 35.0;
-    let dist = r / (fov.to_radians() * 0.5).sin() * 1.05;
-    View {
-        eye: c + DVec3::new(1.0, 0.8, 1.6).normalize() * dist,
-        look_at: c,
-        up: DVec3::Y,
-        fov_deg: fov,
-    }
-}
-
 fn cmd_render(a: &RenderArgs) -> Result<(), String> {
     let kind: ArithKind = a.arith.parse().map_err(|e| format!("--arith: {e}"))?;
     let (width, height) = parse_size(&a.size)?;
-    let domain_override = a
-        .domain
-        .as_deref()
-        .map(|s| parse_box("--domain", s))
-        .transpose()?;
-    enum Target {
-        Model(Box<tracer::models::Model>),
-        Expr(tracer::models::formula::Tape),
-    }
-    let (target, name, domain, mut view) = match (&a.model, &a.expr) {
-        (Some(_), Some(_)) => return Err("give either a MODEL or --expr, not both".into()),
-        (None, None) => {
-            return Err("give a MODEL name (see `tracer list`) or --expr FORMULA".into())
-        }
-        (Some(m), None) => {
-            let model = tracer::models::find(m)?;
-            let domain = domain_override.unwrap_or(model.domain);
-            let view = model.view;
-            let name = model.name.clone();
-            (Target::Model(Box::new(model)), name, domain, view)
-        }
-        (None, Some(f)) => {
-            let tape = tracer::models::formula::parse(f).map_err(|e| format!("--expr: {e}"))?;
-            let domain = domain_override.unwrap_or(Aabb::cube(2.0));
-            (
-                Target::Expr(tape),
-                "expr".to_string(),
-                domain,
-                view_for_box(&domain),
-            )
-        }
-    };
+    let model = model_source(
+        a.model.as_deref(),
+        a.expr.as_deref(),
+        a.domain.as_deref().map(|d| ("--domain", d)),
+    )?;
+    let (name, domain, mut view) = (model.name.clone(), model.domain, model.view);
     if let Some(s) = &a.eye {
         view.eye = parse_vec3("--eye", s)?;
     }
@@ -279,13 +213,12 @@ fn cmd_render(a: &RenderArgs) -> Result<(), String> {
     opts.culling = !a.no_culling;
     opts.pruning = !a.no_pruning;
     opts.shadows = a.shadows;
-    opts.progress = true;
+    if !a.quiet {
+        opts.progress = Some(std::sync::Arc::new(tracer::cli::Bar::new()));
+    }
     // Ctrl-C stops starting tiles; the finished ones are written below.
     opts.cancel = Some(tracer::interrupt::cancel_flag());
-    let res = match &target {
-        Target::Model(m) => render_kind(kind, &m.shape, &opts)?,
-        Target::Expr(t) => render_kind(kind, t, &opts)?,
-    };
+    let res = render_kind(kind, &model.shape, &opts)?;
     write_png(&out, width, height, &res.rgb).map_err(|e| format!("--out: {e}"))?;
     if let Some(d) = &a.depth {
         write_depth(d, width, height, &res.depth).map_err(|e| format!("--depth: {e}"))?;
@@ -351,8 +284,12 @@ fn json_num(v: f64) -> String {
 }
 
 fn cmd_range(a: &RangeArgs) -> Result<(), String> {
-    let tape = tracer::models::formula::parse(&a.expr).map_err(|e| format!("--expr: {e}"))?;
-    let b = parse_box("--box", &a.bbox)?;
+    let model = model_source(
+        a.model.as_deref(),
+        a.expr.as_deref(),
+        a.bbox.as_deref().map(|b| ("--box", b)),
+    )?;
+    let b = model.domain;
     let kinds: Vec<ArithKind> = if a.arith.eq_ignore_ascii_case("all") {
         ArithKind::ALL.to_vec()
     } else {
@@ -366,7 +303,7 @@ fn cmd_range(a: &RangeArgs) -> Result<(), String> {
         .map(|&k| {
             (
                 k,
-                tracer::with_arith!(k, A => range_over::<A, _>(&tape, &b)),
+                tracer::with_arith!(k, A => range_over::<A, _>(&model.shape, &b)),
             )
         })
         .collect();
@@ -385,7 +322,8 @@ fn cmd_range(a: &RangeArgs) -> Result<(), String> {
         tracer::out!("[{}]", items.join(", "));
     } else {
         for (k, (lo, hi)) in rows {
-            tracer::out!("{:<6} [{lo:e}, {hi:e}]", k.name());
+            // Shortest decimals that read back as the same doubles.
+            tracer::out!("{:<6} [{lo:?}, {hi:?}]", k.name());
         }
     }
     Ok(())

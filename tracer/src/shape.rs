@@ -52,3 +52,20 @@ pub struct View {
     /// Vertical field of view in degrees.
     pub fov_deg: f64,
 }
+
+impl View {
+    /// A three-quarter view framing the bounding sphere of `b` (vertical field of view
+    /// 35 degrees, up `+y`): the default view of a model that has none of its own.
+    pub fn framing(b: &Aabb) -> View {
+        let c = (b.min + b.max) * 0.5;
+        let r = (b.max - b.min).length() * 0.5;
+        let fov: f64 = 35.0;
+        let dist = r / (fov.to_radians() * 0.5).sin() * 1.05;
+        View {
+            eye: c + DVec3::new(1.0, 0.8, 1.6).normalize() * dist,
+            look_at: c,
+            up: DVec3::Y,
+            fov_deg: fov,
+        }
+    }
+}

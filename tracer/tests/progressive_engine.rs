@@ -1,6 +1,7 @@
 //! Engine tests for the progressive refinement previewer (headless).
 
 use glam::DVec3;
+use tracer::cli::preview::{run_preview, PreviewArgs};
 use tracer::models::progressive::GmModel;
 use tracer::models::Model;
 use tracer::progressive::*;
@@ -305,7 +306,9 @@ fn headless_preview_writes_a_snapshot_per_level() {
     let dir = std::env::temp_dir().join(format!("tracer-preview-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     let args = PreviewArgs {
-        model: "mitchell-gm".into(),
+        model: Some("mitchell-gm".into()),
+        expr: None,
+        domain: None,
         width: 24,
         height: 16,
         lambda: None,
@@ -329,7 +332,7 @@ fn headless_preview_writes_a_snapshot_per_level() {
     let out = image::open(dir.join("out.png")).unwrap();
     assert_eq!((out.width(), out.height()), (24, 16));
     let bad = PreviewArgs {
-        model: "no-such-model".into(),
+        model: Some("no-such-model".into()),
         ..args.clone()
     };
     assert!(run_preview(&bad).is_err());

@@ -3,7 +3,7 @@
 
 use std::process::{Command, Stdio};
 use std::time::Duration;
-use tracer::progressive::{run_preview, PreviewArgs};
+use tracer::cli::preview::{run_preview, PreviewArgs};
 
 fn have_xvfb() -> bool {
     Command::new("sh")
@@ -48,7 +48,9 @@ fn window_refines_for_a_second_then_stops_and_writes_the_image() {
     let dir = std::env::temp_dir().join(format!("tracer-window-{}", std::process::id()));
     let out = dir.join("stopped.png");
     let args = PreviewArgs {
-        model: "hypertexture-5".into(),
+        model: Some("hypertexture-5".into()),
+        expr: None,
+        domain: None,
         width: 200,
         height: 160,
         lambda: None,

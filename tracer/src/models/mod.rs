@@ -62,6 +62,23 @@ pub struct Model {
     pub lipschitz: Option<f64>,
 }
 
+impl Model {
+    /// A model of the formula `text` (see [`formula`]) over `domain` (default
+    /// `[-2, 2]^3`), viewed by [`View::framing`] of the domain.
+    pub fn formula(text: &str, domain: Option<Aabb>) -> Result<Model, formula::ParseError> {
+        let tape = formula::parse(text)?;
+        let domain = domain.unwrap_or(Aabb::cube(2.0));
+        Ok(Model {
+            name: "expr".into(),
+            description: text.trim().to_string(),
+            shape: AnyShape::Expr(tape),
+            domain,
+            view: View::framing(&domain),
+            lipschitz: None,
+        })
+    }
+}
+
 impl Shape for Model {
     fn eval<R: Real>(&self, x: R, y: R, z: R) -> R {
         self.shape.eval(x, y, z)

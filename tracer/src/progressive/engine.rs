@@ -147,7 +147,7 @@ fn frustum_box(o: DVec3, d: DVec3, tan_a: f64, ta: f64, tb: f64) -> Aabb {
 
 /// Cone tracing with local Lipschitz bounds (past the paper): the cone is cut into
 /// axial segments `[ta, tb]`; in each, `λ` is the gradient bound over the box around
-/// that frustum, intersected with the domain ([`crate::search::lipschitz::gradient_bound_on_box`],
+/// that frustum, intersected with the domain ([`crate::lipschitz_bound::gradient_bound_on_box`],
 /// capped by the global bound), and Fig. 3 runs inside it with the offsets (5) clipped
 /// to the segment (a ball certifies only the part of the cone inside the box, where its
 /// `λ` holds). The next segment starts at the cleared frontier. Segment lengths adapt
@@ -177,7 +177,7 @@ pub fn trace_cone_local<S: Shape + ?Sized>(
         let clipped = Aabb::new(bx.min.max(b.domain.min), bx.max.min(b.domain.max));
         let lam = if clipped.min.cmple(clipped.max).all() {
             *range_evals += 1;
-            crate::search::lipschitz::gradient_bound_on_box(b.shape, &clipped).min(b.lambda)
+            crate::lipschitz_bound::gradient_bound_on_box(b.shape, &clipped).min(b.lambda)
         } else {
             b.lambda // the frustum misses the domain: any bound serves
         };

@@ -17,13 +17,22 @@ use crate::search::ray::{
 use crate::shape::{Aabb, Shape, View};
 use arith_core::Arithmetic;
 use glam::DVec3;
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
 use shade::{Light, Material};
-use std::io::IsTerminal;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
+
+/// Follows a render's progress: told the number of tiles, then each finished tile (from
+/// any of the worker threads), then the end.
+pub trait Progress: Send + Sync + std::fmt::Debug {
+    /// The render has `tiles` tiles to do.
+    fn start(&self, tiles: u64);
+    /// One more tile is done.
+    fn tile_done(&self);
+    /// No more tiles will be done (all of them, or the render was stopped).
+    fn finish(&self);
+}
 
 /// What to render and how.
 #[derive(Clone, Debug)]
@@ -44,8 +53,8 @@ pub struct RenderOptions {
     pub shadows: bool,
     pub material: Material,
     pub background: [u8; 3],
-    /// Allow a progress bar (shown only after a second, and only when stdout is a terminal).
-    pub progress: bool,
+    /// Told the number of tiles and each finished tile (a progress bar, say).
+    pub progress: Option<Arc<dyn Progress>>,
     /// Stop starting new tiles after this instant (the result says it was cut).
     pub deadline: Option<Instant>,
     /// Stop starting new tiles once this flag is set.
@@ -73,7 +82,7 @@ impl RenderOptions {
             shadows: false,
             material: Material::default(),
             background: shade::BACKGROUND,
-            progress: false,
+            progress: None,
             deadline: None,
             cancel: None,
             tile: 64,
@@ -213,12 +222,9 @@ pub fn render<A: Arithmetic, S: Shape + ?Sized>(
             ));
         }
     }
-    let show = opts.progress && std::io::stdout().is_terminal();
-    let bar = ProgressBar::with_draw_target(Some(tiles.len() as u64), ProgressDrawTarget::hidden());
-    if let Ok(style) = ProgressStyle::with_template("{bar:40} {pos}/{len} tiles {elapsed}") {
-        bar.set_style(style);
+    if let Some(p) = &opts.progress {
+        p.start(tiles.len() as u64);
     }
-    let bar_on = AtomicBool::new(false);
     let stop = || {
         opts.deadline.is_some_and(|d| Instant::now() >= d)
             || opts
@@ -234,15 +240,15 @@ pub fn render<A: Arithmetic, S: Shape + ?Sized>(
                 return None;
             }
             let out = render_tile::<A, S>(shape, opts, &cam, &culler, &params, &light, scale, rect);
-            if show && !bar_on.load(Ordering::Relaxed) && start.elapsed() > Duration::from_secs(1) {
-                bar_on.store(true, Ordering::Relaxed);
-                bar.set_draw_target(ProgressDrawTarget::stderr());
+            if let Some(p) = &opts.progress {
+                p.tile_done();
             }
-            bar.inc(1);
             Some(out)
         })
         .collect();
-    bar.finish_and_clear();
+    if let Some(p) = &opts.progress {
+        p.finish();
+    }
 
     let (w, h) = (opts.width as usize, opts.height as usize);
     // Every pixel is written below: by its tile, or as background where a tile was cut.

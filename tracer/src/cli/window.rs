@@ -1,5 +1,5 @@
 //! The live preview (Section 3.5): a refinement thread and a display thread sharing the
-//! image buffer ([`super::SharedImage`], relaxed atomics, no locks).
+//! image buffer ([`crate::progressive::SharedImage`], relaxed atomics, no locks).
 //!
 //! The display thread (this one: X11 windows belong to the thread that made them) shows
 //! the buffer at a steady frame rate and edits the region of interest: drag with the
@@ -9,7 +9,8 @@
 //! few seconds, so even a force-quit (a second Ctrl-C) loses at most the last few
 //! seconds of refinement.
 
-use super::{write_png, Engine, PreviewArgs, Rect, SharedImage, Stats};
+use super::preview::PreviewArgs;
+use crate::progressive::{write_png, Engine, Rect, SharedImage, Stats, Step};
 use crate::shape::Shape;
 use minifb::{Key, MouseButton, MouseMode, Window, WindowOptions};
 use std::path::Path;
@@ -49,7 +50,7 @@ fn refine<S: Shape>(
         }
         // A batch of samples between checks keeps the flag and channel overhead small.
         for _ in 0..64 {
-            if engine.step() == super::Step::Done {
+            if engine.step() == Step::Done {
                 break;
             }
         }
@@ -90,7 +91,7 @@ pub fn run_window<S: Shape + 'static>(engine: Engine<S>, args: &PreviewArgs) -> 
     }
     let (w, h) = engine.size();
     let mut window = Window::new(
-        &format!("tracer preview: {}", args.model),
+        &format!("tracer preview: {}", args.title()),
         w as usize,
         h as usize,
         WindowOptions::default(),
@@ -172,7 +173,7 @@ pub fn run_window<S: Shape + 'static>(engine: Engine<S>, args: &PreviewArgs) -> 
             completed_written = true;
             window.set_title(&format!(
                 "tracer preview: {} (complete, {:.2} s)",
-                args.model,
+                args.title(),
                 start.elapsed().as_secs_f64()
             ));
             if let Some(out) = &args.out {
