@@ -418,3 +418,55 @@ fn non_affine_results_stay_correlated() {
     let (sa, sb) = (a.terms().last().unwrap().0, b.terms().last().unwrap().0);
     assert!(sa >= 64 && sb >= 64 && sa != sb);
 }
+
+/// Half-lines and the whole line, as `(lo, hi)`: one bound or both infinite.
+fn unbounded_range() -> impl Strategy<Value = (f64, f64)> {
+    use arith_core::testkit::strategies::any_finite;
+    prop_oneof![
+        any_finite().prop_map(|lo| (lo, f64::INFINITY)),
+        any_finite().prop_map(|hi| (f64::NEG_INFINITY, hi)),
+        Just((f64::NEG_INFINITY, f64::INFINITY)),
+    ]
+}
+
+/// `from_interval(lo, hi)` and `input(i, lo, hi)`: no NaN centre or coefficient (the
+/// unbounded form's centre is `+inf` by definition), and bounds holding `[lo, hi]`.
+fn check_unbounded_input(lo: f64, hi: f64, i: usize) -> Result<(), TestCaseError> {
+    for x in [Aa::from_interval(lo, hi), Aa::input(i, lo, hi)] {
+        let nan = x.centre().is_nan() || x.terms().iter().any(|t| t.1.is_nan());
+        prop_assert!(
+            !nan && !format!("{x:?}").contains("NaN"),
+            "[{lo}, {hi}] gave {x:?}"
+        );
+        let (a, b) = x.bounds();
+        prop_assert!(a <= lo && hi <= b, "[{lo}, {hi}] not in [{a}, {b}] ({x:?})");
+    }
+    Ok(())
+}
+
+#[test]
+fn unbounded_inputs_are_the_unbounded_form() {
+    const INF: f64 = f64::INFINITY;
+    for (lo, hi) in [
+        (1.0, INF),
+        (-INF, 1.0),
+        (-INF, INF),
+        (INF, INF),
+        (-INF, -INF),
+    ] {
+        for i in [0, 1, 63, 64, usize::MAX] {
+            check_unbounded_input(lo, hi, i).unwrap();
+        }
+        assert!(Aa::from_interval(lo, hi).is_entire());
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(2000))]
+
+    /// Any half-line or the whole line gives a sound form without NaN.
+    #[test]
+    fn unbounded_inputs_never_give_nan((lo, hi) in unbounded_range(), i in 0usize..70) {
+        check_unbounded_input(lo, hi, i)?;
+    }
+}

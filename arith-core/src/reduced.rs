@@ -421,9 +421,10 @@ impl<const N: usize, K: ReducedKind> Range for Reduced<N, K> {
     /// `x0 = (lo+hi)/2`, `xs[i] = (hi-lo)/2`, so `ε_i = -1 ↦ lo`, `+1 ↦ hi`; any rounding
     /// of the midpoint or radius goes into `e`. An index `i >= N` gets no symbol: the
     /// whole radius goes into `e` (sound, uncorrelated). Reversed bounds are swapped;
-    /// NaN gives the whole line.
+    /// NaN or an infinite bound gives [`Reduced::UNBOUNDED`] (a half-line has no finite
+    /// centre and radius; `mid_rad` would make them infinite and `e` NaN).
     fn input(i: usize, lo: f64, hi: f64) -> Self {
-        if lo.is_nan() || hi.is_nan() {
+        if !(lo.is_finite() && hi.is_finite()) {
             return Self::UNBOUNDED;
         }
         let (lo, hi) = if lo <= hi { (lo, hi) } else { (hi, lo) };

@@ -584,3 +584,53 @@ fn trig_huge_arguments() {
         }
     }
 }
+
+/// Past the overflow threshold the range of `e^x` starts at `f64::MAX`, the largest float
+/// not above `e^a`, not at 0; the threshold is the first float above `ln(f64::MAX)`.
+/// Below it the lower bound stays libm's enclosure (finite, within a few ulps).
+#[test]
+fn exp_range_past_overflow_starts_at_max() {
+    let mut cc = Consts::new().expect("astro-float constants");
+    let first_over = (1024.0 * std::f64::consts::LN_2).next_up();
+    let exp_of = |x: f64, cc: &mut Consts| match reference(F::Exp, x, cc) {
+        Ref::Val(v) => v,
+        _ => unreachable!("finite reference for {x}"),
+    };
+    let max = big(f64::MAX);
+    // exp(709.78) < MAX < exp(709.79); the threshold is exactly where e^x passes MAX.
+    assert!(le(&exp_of(709.78, &mut cc), &max));
+    assert!(!le(&exp_of(709.79, &mut cc), &max));
+    assert!(!le(&exp_of(first_over, &mut cc), &max));
+    assert!(le(&exp_of(first_over.next_down(), &mut cc), &max));
+    for a in [
+        first_over,
+        709.79,
+        710.0,
+        800.0,
+        1e300,
+        f64::MAX,
+        f64::INFINITY,
+    ] {
+        for b in [a, a.next_up(), f64::INFINITY] {
+            if a <= b {
+                assert_eq!(
+                    approx::range_exp(a, b),
+                    (f64::MAX, f64::INFINITY),
+                    "[{a}, {b}]"
+                );
+            }
+        }
+    }
+    for a in [first_over.next_down(), 709.78, 709.7] {
+        let (lo, hi) = approx::range_exp(a, 710.0);
+        assert!(
+            lo.is_finite() && lo < f64::MAX && hi == f64::INFINITY,
+            "{lo} {hi}"
+        );
+        let v = exp_of(a, &mut cc);
+        assert!(
+            le(&big(lo), &v) && le(&v, &big(lo * (1.0 + 1e-14))),
+            "{a}: {lo}"
+        );
+    }
+}

@@ -128,15 +128,94 @@ fn bad_constructor_input_is_made_safe() {
 
 #[test]
 fn overflow_gives_infinite_bounds() {
-    let e = iv(710.0, 720.0).exp();
-    assert_eq!(e.hi, INF);
-    // (How tight the lower bound is depends on the shared `approx::range_exp`.)
-    assert!(e.lo >= 0.0 && e.lo <= f64::MAX);
+    // e^710 > f64::MAX: the largest float is the tightest sound lower bound.
+    assert_eq!(iv(710.0, 720.0).exp(), iv(f64::MAX, INF));
     let p = iv(1e200, 1e201) * iv(1e200, 1e201);
     assert_eq!(p, iv(f64::MAX, INF));
     let s = iv(f64::MAX, f64::MAX) + iv(f64::MAX, f64::MAX);
     assert_eq!(s, iv(f64::MAX, INF));
     assert_eq!(iv(-1.0, 1e300).powi(3).hi, INF);
+}
+
+/// `e^x` against `f64::MAX = 2^1024 (1 - 2^-53)`, decided exactly: `e^x = 2^1024 e^t` with
+/// `t = x - 1024 ln 2`, and `d = x - 1024 LN_2` is exact (Sterbenz) and within `2^-44` of
+/// `t` (`|LN_2 - ln 2| <= 2^-54`). `Some(true)`: `e^x > 2^1024 > MAX` (`t > 0`);
+/// `Some(false)`: `e^x < MAX` (`t < -2^-52 < ln(1 - 2^-53)`); `None`: too close to tell.
+fn exp_exceeds_max(x: f64) -> Option<bool> {
+    let d = x - 1024.0 * core::f64::consts::LN_2;
+    let slack = 2f64.powi(-44);
+    if d - slack > 0.0 {
+        Some(true)
+    } else if d + slack < -(2f64.powi(-52)) {
+        Some(false)
+    } else {
+        None
+    }
+}
+
+/// `exp` of ranges at and past the overflow threshold `ln(MAX) = 709.7827..`: the lower
+/// bound is `f64::MAX` once `e^lo > MAX` (the largest float not above it), and below the
+/// threshold a finite enclosure of `e^lo` (checked in multi-precision); never 0.
+#[test]
+fn exp_lower_bound_is_tight_near_overflow() {
+    assert_eq!(exp_exceeds_max(709.78), Some(false));
+    assert_eq!(exp_exceeds_max(709.79), Some(true));
+    // The first float past ln(MAX): its `e^x` already exceeds MAX.
+    let first_over = (1024.0 * core::f64::consts::LN_2).next_up();
+    assert_eq!(exp_exceeds_max(first_over), Some(true));
+    // The float before it, `1024 LN_2` itself, is too close for that argument; the
+    // multi-precision reference decides: `e^x < MAX` (by about 2^-45 of it).
+    assert_eq!(exp_exceeds_max(first_over.next_down()), None);
+    let below = Mp::point(first_over.next_down()).unwrap().exp().unwrap();
+    assert_eq!(below.verdict(0.0, f64::MAX), Verdict::Inside);
+    // And the reference agrees with the decided facts.
+    for (x, over) in [(709.78, false), (709.79, true), (first_over, true)] {
+        let v = if over {
+            Verdict::Outside
+        } else {
+            Verdict::Inside
+        };
+        assert_eq!(
+            Mp::point(x).unwrap().exp().unwrap().verdict(0.0, f64::MAX),
+            v,
+            "{x}"
+        );
+    }
+    for (lo, hi) in [
+        (709.7, 709.78),
+        (709.78, 710.0),
+        (first_over.next_down(), 709.79),
+        (first_over, first_over),
+        (709.79, 709.8),
+        (710.0, 800.0),
+        (1e300, f64::MAX),
+        (709.0, INF),
+        (INF, INF),
+    ] {
+        let e = iv(lo, hi).exp();
+        assert_no_nan(e, &format!("exp [{lo}, {hi}]"));
+        match exp_exceeds_max(lo) {
+            Some(true) => assert_eq!(e.lo, f64::MAX, "exp [{lo}, {hi}] = {e:?}"),
+            _ => {
+                // Sound, and within the libm margin (a few ulps) of e^lo.
+                let exact = Mp::point(lo).unwrap().exp().unwrap();
+                assert_ne!(
+                    exact.verdict(e.lo, INF),
+                    Verdict::Outside,
+                    "exp [{lo}, {hi}] = {e:?}"
+                );
+                assert_eq!(
+                    exact.verdict(-INF, e.lo * (1.0 + 1e-14)),
+                    Verdict::Inside,
+                    "{e:?}"
+                );
+            }
+        }
+        match exp_exceeds_max(hi) {
+            Some(true) => assert_eq!(e.hi, INF),
+            _ => assert!(e.hi.is_finite(), "exp [{lo}, {hi}] = {e:?}"),
+        }
+    }
 }
 
 /// Intervals with infinite and zero bounds, as operations on overflowed or degenerate
@@ -254,6 +333,29 @@ proptest! {
                 continue;
             }
             prop_assert!(wide.lo <= narrow.lo && narrow.hi <= wide.hi, "{:?} not within {:?}", narrow, wide);
+        }
+    }
+}
+
+/// Half-lines and the whole line, as `(lo, hi)`: one bound or both infinite.
+fn unbounded_range() -> impl Strategy<Value = (f64, f64)> {
+    prop_oneof![
+        strategies::any_finite().prop_map(|lo| (lo, INF)),
+        strategies::any_finite().prop_map(|hi| (-INF, hi)),
+        Just((-INF, INF)),
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 2000, failure_persistence: None, ..ProptestConfig::default() })]
+
+    /// `from_interval(lo, hi)` and `input(i, lo, hi)` of a half-line or the whole line:
+    /// exactly `[lo, hi]`, no NaN bound.
+    #[test]
+    fn unbounded_inputs_never_give_nan((lo, hi) in unbounded_range(), i in 0usize..4) {
+        for x in [Interval::from_interval(lo, hi), Interval::input(i, lo, hi)] {
+            prop_assert!(!format!("{x:?}").contains("NaN"), "{:?}", x);
+            prop_assert_eq!(x.bounds(), (lo, hi));
         }
     }
 }

@@ -220,3 +220,58 @@ proptest! {
         }
     }
 }
+
+/// Half-lines and the whole line, as `(lo, hi)`: one bound or both infinite.
+fn unbounded_range() -> impl Strategy<Value = (f64, f64)> {
+    use arith_core::testkit::strategies::any_finite;
+    prop_oneof![
+        any_finite().prop_map(|lo| (lo, f64::INFINITY)),
+        any_finite().prop_map(|hi| (f64::NEG_INFINITY, hi)),
+        Just((f64::NEG_INFINITY, f64::INFINITY)),
+    ]
+}
+
+/// `from_interval(lo, hi)` and `input(i, lo, hi)`: no NaN part (centre, coefficients,
+/// accumulator; Debug shows them all), `acc >= 0`, and bounds holding `[lo, hi]`.
+fn check_unbounded_input<const N: usize>(lo: f64, hi: f64, i: usize) -> Result<(), TestCaseError> {
+    for x in [Raa::<N>::from_interval(lo, hi), Raa::<N>::input(i, lo, hi)] {
+        let nan = x.centre().is_nan() || x.coeffs().iter().any(|c| c.is_nan()) || x.acc().is_nan();
+        prop_assert!(
+            !nan && !format!("{x:?}").contains("NaN"),
+            "[{lo}, {hi}] gave {x:?}"
+        );
+        prop_assert!(x.acc() >= 0.0, "[{lo}, {hi}] gave {x:?}");
+        let (a, b) = x.bounds();
+        prop_assert!(a <= lo && hi <= b, "[{lo}, {hi}] not in [{a}, {b}] ({x:?})");
+    }
+    Ok(())
+}
+
+#[test]
+fn unbounded_inputs_are_the_unbounded_form() {
+    const INF: f64 = f64::INFINITY;
+    for (lo, hi) in [
+        (1.0, INF),
+        (-INF, 1.0),
+        (-INF, INF),
+        (INF, INF),
+        (-INF, -INF),
+    ] {
+        for i in 0..4 {
+            check_unbounded_input::<1>(lo, hi, i).unwrap();
+            check_unbounded_input::<3>(lo, hi, i).unwrap();
+        }
+        assert_eq!(Raa::<3>::from_interval(lo, hi), Raa::<3>::UNBOUNDED);
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(2000))]
+
+    /// Any half-line or the whole line gives a sound form without NaN.
+    #[test]
+    fn unbounded_inputs_never_give_nan((lo, hi) in unbounded_range(), i in 0usize..4) {
+        check_unbounded_input::<1>(lo, hi, i)?;
+        check_unbounded_input::<3>(lo, hi, i)?;
+    }
+}
