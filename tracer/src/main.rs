@@ -12,7 +12,7 @@ use std::process::ExitCode;
 use tracer::arith::ArithKind;
 use tracer::render::output::{write_depth, write_png};
 use tracer::render::{render_kind, RenderOptions};
-use tracer::shape::{Aabb, Shape, View};
+use tracer::shape::{check_domain, Aabb, Shape};
 
 #[derive(Parser, Debug)]
 #[command(
@@ -163,14 +163,13 @@ fn parse_box(flag: &str, s: &str) -> Result<Aabb, String> {
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let max = tracer::camera::MAX_SIDE;
     let err =
-        || format!("--size '{s}': expected WxH with positive integers up to 16384, e.g. 640x480");
+        || format!("--size '{s}': expected WxH with positive integers up to {max}, e.g. 640x480");
     let (w, h) = s.split_once(['x', 'X']).ok_or_else(err)?;
     let w: u32 = w.trim().parse().map_err(|_| err())?;
     let h: u32 = h.trim().parse().map_err(|_| err())?;
-    if w == 0 || h == 0 || w > 16384 || h > 16384 {
-        return Err(err());
-    }
+    tracer::camera::check_size(w, h).map_err(|_| err())?;
     Ok((w, h))
 }
 
@@ -178,20 +177,6 @@ fn parse_positive(flag: &str, s: &str) -> Result<f64, String> {
     match s.trim().parse::<f64>() {
         Ok(v) if v > 0.0 && v.is_finite() => Ok(v),
         _ => Err(format!("{flag} '{s}': expected a positive number")),
-    }
-}
-
-/// A three-quarter view framing `domain`'s bounding sphere.
-fn view_for_box(b: &Aabb) -> View {
-    let c = (b.min + b.max) * 0.5;
-    let r = (b.max - b.min).length() * 0.5;
-    let fov: f64 = 35.0;
-    let dist = r / (fov.to_radians() * 0.5).sin() * 1.05;
-    View {
-        eye: c + DVec3::new(1.0, 0.8, 1.6).normalize() * dist,
-        look_at: c,
-        up: DVec3::Y,
-        fov_deg: fov,
     }
 }
 
@@ -203,6 +188,10 @@ fn cmd_render(a: &RenderArgs) -> Result<(), String> {
         .as_deref()
         .map(|s| parse_box("--domain", s))
         .transpose()?;
+    let domain_err = |e: String| format!("--domain '{}': {e}", a.domain.as_deref().unwrap_or(""));
+    if let Some(b) = &domain_override {
+        check_domain(b).map_err(domain_err)?;
+    }
     enum Target {
         Model(Box<tracer::models::Model>),
         Expr(tracer::models::formula::Tape),
@@ -222,12 +211,8 @@ fn cmd_render(a: &RenderArgs) -> Result<(), String> {
         (None, Some(f)) => {
             let tape = tracer::models::formula::parse(f).map_err(|e| format!("--expr: {e}"))?;
             let domain = domain_override.unwrap_or(Aabb::cube(2.0));
-            (
-                Target::Expr(tape),
-                "expr".to_string(),
-                domain,
-                view_for_box(&domain),
-            )
+            let view = tracer::camera::frame_box(&domain).map_err(domain_err)?;
+            (Target::Expr(tape), "expr".to_string(), domain, view)
         }
     };
     if let Some(s) = &a.eye {

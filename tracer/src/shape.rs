@@ -43,6 +43,21 @@ impl Aabb {
     }
 }
 
+/// `Ok` for a box the renderers can work in: finite, `min < max` on every axis, and a
+/// diagonal whose length does not overflow (precisions and margins scale with it).
+pub fn check_domain(b: &Aabb) -> Result<(), String> {
+    if !(b.min.is_finite() && b.max.is_finite()) {
+        return Err("the box must be finite".into());
+    }
+    if !b.min.cmplt(b.max).all() {
+        return Err("each minimum must be below its maximum".into());
+    }
+    if !(b.max - b.min).length().is_finite() {
+        return Err("the box is too large: the length of its diagonal overflows".into());
+    }
+    Ok(())
+}
+
 /// A pinhole camera placement (see [`crate::camera`] for the ray formula).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct View {

@@ -282,3 +282,37 @@ fn closed_stdout_is_not_a_panic() {
         assert!(!err.contains("panicked"), "{args:?}: {err}");
     }
 }
+
+/// Values too large to set up the view are named, not reported as a coincident eye
+/// or a parallel up vector.
+#[test]
+fn overflowing_views_and_domains() {
+    let out = tmp("overflow.png");
+    let out = out.to_str().unwrap();
+    let base = ["render", "mitchell", "--size", "8x8", "--out", out];
+    let run = |extra: &[&str], needle: &str| {
+        let args: Vec<&str> = base.iter().chain(extra).copied().collect();
+        assert_user_error(&args, needle);
+    };
+    run(&["--eye", "1e308,1e308,1e308"], "too far");
+    run(&["--eye", "1e308,1e308,1e308"], "(1e308, 1e308, 1e308)");
+    run(&["--up", "1e300,1e300,0"], "too long");
+    let huge = "-1e300,-1e300,-1e300,1e300,1e300,1e300";
+    run(
+        &["--domain", huge],
+        &format!("--domain '{huge}': the box is too large"),
+    );
+    let big = "-3e153,-3e153,-3e153,3e153,3e153,3e153";
+    assert_user_error(
+        &[
+            "render", "--expr", "x", "--size", "8x8", "--out", out, "--domain", big,
+        ],
+        &format!("--domain '{big}': the box is too large to frame a view"),
+    );
+    assert_user_error(
+        &[
+            "render", "--expr", "x", "--size", "8x8", "--out", out, "--domain", huge,
+        ],
+        "--domain",
+    );
+}
