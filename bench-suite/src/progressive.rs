@@ -181,8 +181,9 @@ fn bench(m: &Model, size: u32, verbose: bool) -> Result<Vec<BenchRow>, String> {
 /// Runs Table 1 and Fig. 9 (reusing a Table 1 model that Fig. 9 also needs) and writes
 /// `progressive.md`, `progressive.csv`, `fig9.csv`, `fig9.png` and `fig9-evals.png`.
 pub fn run(o: &Options) -> Result<Report, String> {
-    if o.size == 0 || o.size > 16384 {
-        return Err(format!("--size {} must be between 1 and 16384", o.size));
+    let max = tracer::camera::MAX_SIDE;
+    if o.size == 0 || o.size > max {
+        return Err(format!("--size {} must be between 1 and {max}", o.size));
     }
     if o.layers > u32::from(tracer::models::progressive::MAX_LAYERS) {
         return Err(format!(

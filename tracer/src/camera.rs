@@ -1,4 +1,4 @@
-//! Pinhole camera with the issue's exact pixel-centre formula.
+//! Pinhole camera with an exact pixel-centre formula.
 //!
 //! Pixel column `i` counts from the left, row `j` from the top. For continuous pixel
 //! coordinates `(px, py)` (pixel `(i, j)` covers `[i, i+1) x [j, j+1)`, its centre is
@@ -11,7 +11,7 @@
 //! forward = normalize(look_at - eye), right = normalize(forward x up), up' = right x forward
 //! ```
 
-use crate::shape::View;
+use crate::shape::{check_domain, Aabb, View};
 use glam::DVec3;
 
 /// A camera for one image size.
@@ -48,25 +48,21 @@ impl Camera {
         }
     }
 
-    /// Like [`Camera::new`] but rejects degenerate views with a message.
+    /// Like [`Camera::new`] but rejects what would give NaN or infinite directions, with
+    /// a message naming the offending value: a size outside `1..=`[`MAX_SIDE`], a field
+    /// of view outside (0, 180) degrees, non-finite points, an eye at the look-at point,
+    /// an up vector that is zero or parallel to the viewing direction, and points or
+    /// vectors so large or so small that the differences, lengths or normalisations of
+    /// the set-up overflow or underflow.
     pub fn try_new(view: View, width: u32, height: u32) -> Result<Self, String> {
-        if width == 0 || height == 0 {
-            return Err(format!("image size {width}x{height} is empty"));
-        }
+        check_size(width, height)?;
         if !(view.fov_deg > 0.0 && view.fov_deg < 180.0) {
             return Err(format!(
                 "field of view {} is not in (0, 180) degrees",
                 view.fov_deg
             ));
         }
-        let f = view.look_at - view.eye;
-        if !f.is_finite() || f.length() == 0.0 {
-            return Err("the eye and the look-at point coincide".into());
-        }
-        let c = f.normalize().cross(view.up);
-        if !c.is_finite() || c.length() < 1e-9 * view.up.length().max(1e-300) {
-            return Err("the up vector is zero or parallel to the viewing direction".into());
-        }
+        check_view(&view)?;
         Ok(Camera::new(view, width, height))
     }
 
@@ -123,6 +119,103 @@ impl Camera {
     pub fn pixel_angle(&self) -> f64 {
         2.0 * self.tan_half / self.height as f64
     }
+}
+
+/// The largest image side in pixels that the renderers accept (the CLI's `--size`
+/// limit too): a 16384 x 16384 image already needs about 2 GB of buffers.
+pub const MAX_SIDE: u32 = 16384;
+
+/// `Ok` for an image of `width x height` pixels with each side in `1..=MAX_SIDE`.
+pub fn check_size(width: u32, height: u32) -> Result<(), String> {
+    if width == 0 || height == 0 || width > MAX_SIDE || height > MAX_SIDE {
+        return Err(format!(
+            "image size {width}x{height} is out of range: each side must be 1 to {MAX_SIDE} \
+             pixels"
+        ));
+    }
+    Ok(())
+}
+
+/// A point or vector as the messages show it.
+fn show(v: DVec3) -> String {
+    format!("({:?}, {:?}, {:?})", v.x, v.y, v.z)
+}
+
+/// Checks the differences, lengths and normalisations [`Camera::new`] computes from
+/// `view` (the field of view aside).
+fn check_view(view: &View) -> Result<(), String> {
+    for (name, v) in [
+        ("eye", view.eye),
+        ("look-at point", view.look_at),
+        ("up vector", view.up),
+    ] {
+        if !v.is_finite() {
+            return Err(format!("the {name} {} is not finite", show(v)));
+        }
+    }
+    let (eye, at) = (show(view.eye), show(view.look_at));
+    let f = view.look_at - view.eye;
+    if f == DVec3::ZERO {
+        return Err(format!("the eye and the look-at point coincide at {eye}"));
+    }
+    if !f.is_finite() || !f.length().is_finite() {
+        return Err(format!(
+            "the eye {eye} is too far from the look-at point {at} to set up the view: \
+             their distance overflows"
+        ));
+    }
+    let forward = f.normalize();
+    if f.length() == 0.0 || !forward.is_finite() {
+        return Err(format!(
+            "the eye {eye} is too close to the look-at point {at} to set up the view: \
+             their distance underflows"
+        ));
+    }
+    let up = show(view.up);
+    let ul = view.up.length();
+    if view.up == DVec3::ZERO {
+        return Err("the up vector is zero".into());
+    }
+    if !ul.is_finite() {
+        return Err(format!(
+            "the up vector {up} is too long to set up the view: its length overflows"
+        ));
+    }
+    if ul == 0.0 {
+        return Err(format!(
+            "the up vector {up} is too short to set up the view: its length underflows"
+        ));
+    }
+    let c = forward.cross(view.up);
+    if c.length() < 1e-9 * ul || !c.normalize().is_finite() {
+        return Err(format!(
+            "the up vector {up} is parallel to the viewing direction from {eye} to {at}"
+        ));
+    }
+    Ok(())
+}
+
+/// A three-quarter view of `domain` (up +y, 35 degree field of view) from far enough
+/// to see its whole bounding sphere; an error when the box is not finite, empty, or so
+/// large that its diagonal or the eye's distance overflows.
+pub fn frame_box(domain: &Aabb) -> Result<View, String> {
+    check_domain(domain)?;
+    let c = (domain.min + domain.max) * 0.5;
+    let r = (domain.max - domain.min).length() * 0.5;
+    let fov: f64 = 35.0;
+    let dist = r / (fov.to_radians() * 0.5).sin() * 1.05;
+    let view = View {
+        eye: c + DVec3::new(1.0, 0.8, 1.6).normalize() * dist,
+        look_at: c,
+        up: DVec3::Y,
+        fov_deg: fov,
+    };
+    if !(c.is_finite() && dist.is_finite()) || check_view(&view).is_err() {
+        return Err(
+            "the box is too large to frame a view of it: the eye's distance overflows".into(),
+        );
+    }
+    Ok(view)
 }
 
 #[cfg(test)]
@@ -206,5 +299,68 @@ mod tests {
         v.look_at = v.eye;
         assert!(Camera::try_new(v, 4, 4).is_err());
         assert!(Camera::try_new(view(), 4, 4).is_ok());
+    }
+
+    /// Overflowing or underflowing differences and lengths are named as such, not as a
+    /// coincident eye or a parallel up vector.
+    #[test]
+    fn overflowing_views_say_what_overflows() {
+        let err = |v: View| Camera::try_new(v, 4, 4).unwrap_err();
+        let mut v = view();
+        v.eye = DVec3::splat(1e308);
+        let e = err(v);
+        assert!(
+            e.contains("too far") && e.contains("(1e308, 1e308, 1e308)"),
+            "{e}"
+        );
+        let mut v = view();
+        v.eye = DVec3::new(-1e308, 0.0, 0.0);
+        v.look_at = DVec3::new(1e308, 0.0, 0.0);
+        assert!(err(v).contains("too far"));
+        let mut v = view();
+        v.eye = DVec3::new(0.0, 0.0, 1e-200);
+        assert!(err(v).contains("too close"));
+        let mut v = view();
+        v.up = DVec3::new(1e300, 1e300, 0.0);
+        assert!(err(v).contains("too long"));
+        let mut v = view();
+        v.up = DVec3::new(1e-200, 1e-200, 0.0);
+        assert!(err(v).contains("too short"));
+        let mut v = view();
+        v.up = DVec3::new(0.0, 0.0, 1e100);
+        assert!(err(v).contains("parallel"));
+        assert!(err(View {
+            up: DVec3::ZERO,
+            ..view()
+        })
+        .contains("zero"));
+        // Far but representable views still work.
+        let mut v = view();
+        v.eye = DVec3::new(0.0, 0.0, 1e150);
+        v.up = DVec3::new(0.0, 1e150, 0.0);
+        assert!(Camera::try_new(v, 4, 4).is_ok());
+    }
+
+    #[test]
+    fn sizes_up_to_the_limit() {
+        assert!(check_size(MAX_SIDE, MAX_SIDE).is_ok() && check_size(1, 1).is_ok());
+        for (w, h) in [(0, 1), (1, 0), (MAX_SIDE + 1, 1), (1, 100_000)] {
+            assert!(check_size(w, h).unwrap_err().contains(&format!("{w}x{h}")));
+            assert!(Camera::try_new(view(), w, h).is_err());
+        }
+    }
+
+    #[test]
+    fn framing_a_box() {
+        let v = frame_box(&Aabb::cube(2.0)).unwrap();
+        assert_eq!(v.look_at, DVec3::ZERO);
+        assert!(Camera::try_new(v, 4, 4).is_ok());
+        assert!(frame_box(&Aabb::cube(1e300))
+            .unwrap_err()
+            .contains("diagonal overflows"));
+        assert!(frame_box(&Aabb::cube(3e153))
+            .unwrap_err()
+            .contains("eye's distance overflows"));
+        assert!(frame_box(&Aabb::new(DVec3::ONE, DVec3::ZERO)).is_err());
     }
 }

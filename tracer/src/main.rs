@@ -10,7 +10,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use tracer::arith::ArithKind;
 use tracer::cli::{model_source, parse_positive, parse_vec3};
-use tracer::render::output::{write_depth, write_png};
+use tracer::render::output::{check_outputs, write_depth, write_png};
 use tracer::render::{render_kind, RenderOptions};
 use tracer::shape::{Aabb, Shape};
 
@@ -54,7 +54,7 @@ struct RenderArgs {
     /// Output PNG (default: <model>.png).
     #[arg(long)]
     out: Option<PathBuf>,
-    /// Depth map output: .npy (float32, shape (H, W)) or .exr; +inf where the ray misses.
+    /// Depth map: .npy (float32, shape (H, W)) or .exr (one float32 channel Z); +inf on a miss.
     #[arg(long)]
     depth: Option<PathBuf>,
     /// Eye position X,Y,Z.
@@ -144,14 +144,13 @@ fn main() -> ExitCode {
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let max = tracer::camera::MAX_SIDE;
     let err =
-        || format!("--size '{s}': expected WxH with positive integers up to 16384, e.g. 640x480");
+        || format!("--size '{s}': expected WxH with positive integers up to {max}, e.g. 640x480");
     let (w, h) = s.split_once(['x', 'X']).ok_or_else(err)?;
     let w: u32 = w.trim().parse().map_err(|_| err())?;
     let h: u32 = h.trim().parse().map_err(|_| err())?;
-    if w == 0 || h == 0 || w > 16384 || h > 16384 {
-        return Err(err());
-    }
+    tracer::camera::check_size(w, h).map_err(|_| err())?;
     Ok((w, h))
 }
 
@@ -190,23 +189,8 @@ fn cmd_render(a: &RenderArgs) -> Result<(), String> {
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from(format!("{name}.png")));
-    if let Some(d) = &a.depth {
-        let ext = d
-            .extension()
-            .and_then(|e| e.to_str())
-            .map(|e| e.to_ascii_lowercase());
-        if !matches!(ext.as_deref(), Some("npy") | Some("exr")) {
-            return Err(format!(
-                "--depth '{}': the file must end in .npy or .exr",
-                d.display()
-            ));
-        }
-    }
-    // Fail on an unwritable output before a long render.
-    check_writable("--out", &out)?;
-    if let Some(d) = &a.depth {
-        check_writable("--depth", d)?;
-    }
+    // Fail on a refused or unwritable output before a long render.
+    check_outputs(&out, a.depth.as_deref())?;
 
     let mut opts = RenderOptions::for_view(view, domain, width, height);
     opts.eps = eps;
@@ -246,24 +230,6 @@ fn cmd_render(a: &RenderArgs) -> Result<(), String> {
     tracer::out!("wrote {}", out.display());
     if let Some(d) = &a.depth {
         tracer::out!("wrote {}", d.display());
-    }
-    Ok(())
-}
-
-/// Errors now (with the flag's name) if `path` cannot be created; leaves no file behind
-/// when it did not exist.
-fn check_writable(flag: &str, path: &std::path::Path) -> Result<(), String> {
-    let existed = path.exists();
-    if path.is_dir() {
-        return Err(format!("{flag} '{}': is a directory", path.display()));
-    }
-    std::fs::OpenOptions::new()
-        .create(true)
-        .append(true)
-        .open(path)
-        .map_err(|e| format!("{flag} '{}': cannot write: {e}", path.display()))?;
-    if !existed {
-        let _ = std::fs::remove_file(path);
     }
     Ok(())
 }

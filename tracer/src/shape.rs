@@ -43,6 +43,21 @@ impl Aabb {
     }
 }
 
+/// `Ok` for a box the renderers can work in: finite, `min < max` on every axis, and a
+/// diagonal whose length does not overflow (precisions and margins scale with it).
+pub fn check_domain(b: &Aabb) -> Result<(), String> {
+    if !(b.min.is_finite() && b.max.is_finite()) {
+        return Err("the box must be finite".into());
+    }
+    if !b.min.cmplt(b.max).all() {
+        return Err("each minimum must be below its maximum".into());
+    }
+    if !(b.max - b.min).length().is_finite() {
+        return Err("the box is too large: the length of its diagonal overflows".into());
+    }
+    Ok(())
+}
+
 /// A pinhole camera placement (see [`crate::camera`] for the ray formula).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct View {
@@ -51,21 +66,4 @@ pub struct View {
     pub up: DVec3,
     /// Vertical field of view in degrees.
     pub fov_deg: f64,
-}
-
-impl View {
-    /// A three-quarter view framing the bounding sphere of `b` (vertical field of view
-    /// 35 degrees, up `+y`): the default view of a model that has none of its own.
-    pub fn framing(b: &Aabb) -> View {
-        let c = (b.min + b.max) * 0.5;
-        let r = (b.max - b.min).length() * 0.5;
-        let fov: f64 = 35.0;
-        let dist = r / (fov.to_radians() * 0.5).sin() * 1.05;
-        View {
-            eye: c + DVec3::new(1.0, 0.8, 1.6).normalize() * dist,
-            look_at: c,
-            up: DVec3::Y,
-            fov_deg: fov,
-        }
-    }
 }

@@ -282,3 +282,131 @@ fn closed_stdout_is_not_a_panic() {
         assert!(!err.contains("panicked"), "{args:?}: {err}");
     }
 }
+
+/// Values too large to set up the view are named, not reported as a coincident eye
+/// or a parallel up vector.
+#[test]
+fn overflowing_views_and_domains() {
+    let out = tmp("overflow.png");
+    let out = out.to_str().unwrap();
+    let base = ["render", "mitchell", "--size", "8x8", "--out", out];
+    let run = |extra: &[&str], needle: &str| {
+        let args: Vec<&str> = base.iter().chain(extra).copied().collect();
+        assert_user_error(&args, needle);
+    };
+    run(&["--eye", "1e308,1e308,1e308"], "too far");
+    run(&["--eye", "1e308,1e308,1e308"], "(1e308, 1e308, 1e308)");
+    run(&["--up", "1e300,1e300,0"], "too long");
+    let huge = "-1e300,-1e300,-1e300,1e300,1e300,1e300";
+    run(
+        &["--domain", huge],
+        &format!("--domain '{huge}': the box is too large"),
+    );
+    let big = "-3e153,-3e153,-3e153,3e153,3e153,3e153";
+    assert_user_error(
+        &[
+            "render", "--expr", "x", "--size", "8x8", "--out", out, "--domain", big,
+        ],
+        &format!("--domain '{big}': the box is too large to frame a view"),
+    );
+    assert_user_error(
+        &[
+            "render", "--expr", "x", "--size", "8x8", "--out", out, "--domain", huge,
+        ],
+        "--domain",
+    );
+}
+
+/// Only PNG colour images are written: another --out extension is refused before the
+/// render, and nothing is written.
+#[test]
+fn out_must_be_png() {
+    for name in ["o.jpg", "o.jpeg", "o.tif", "o"] {
+        let out = tmp(name);
+        assert_user_error(
+            &[
+                "render",
+                "csg",
+                "--size",
+                "8x8",
+                "--out",
+                out.to_str().unwrap(),
+            ],
+            &format!("--out '{}': the file must end in .png", out.display()),
+        );
+        assert!(!out.exists(), "{name} was written");
+    }
+}
+
+/// --out and --depth naming one file (also under two spellings) is refused.
+#[test]
+fn out_and_depth_must_differ() {
+    let same = tmp("same.npy");
+    let dir = same.parent().unwrap();
+    let other = dir
+        .join("..")
+        .join(dir.file_name().unwrap())
+        .join("same.npy");
+    for d in [&same, &other] {
+        assert_user_error(
+            &[
+                "render",
+                "csg",
+                "--size",
+                "8x8",
+                "--out",
+                same.to_str().unwrap(),
+                "--depth",
+                d.to_str().unwrap(),
+            ],
+            &format!("--depth '{}': is the same file as --out", d.display()),
+        );
+    }
+    assert!(!same.exists());
+}
+
+/// The EXR depth map is one float32 channel named Z holding what the NPY one holds.
+#[test]
+fn exr_depth_is_one_z_channel() {
+    let (png, npy, exr) = (tmp("z.png"), tmp("z.npy"), tmp("z.exr"));
+    for depth in [&npy, &exr] {
+        let out = tracer(&[
+            "render",
+            "--expr",
+            "1 - x^2 - y^2 - z^2",
+            "--size",
+            "20x16",
+            "--out",
+            png.to_str().unwrap(),
+            "--depth",
+            depth.to_str().unwrap(),
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    let b = std::fs::read(&npy).unwrap();
+    let hl = u16::from_le_bytes([b[8], b[9]]) as usize;
+    let want: Vec<f32> = b[10 + hl..]
+        .chunks(4)
+        .map(|c| f32::from_le_bytes(c.try_into().unwrap()))
+        .collect();
+    assert!(want.iter().any(|d| d.is_finite()) && want.contains(&f32::INFINITY));
+    let img = exr::prelude::read_all_flat_layers_from_file(&exr).expect("valid EXR");
+    assert_eq!(img.layer_data.len(), 1);
+    let layer = &img.layer_data[0];
+    assert_eq!((layer.size.0, layer.size.1), (20, 16));
+    let names: Vec<String> = layer
+        .channel_data
+        .list
+        .iter()
+        .map(|c| c.name.to_string())
+        .collect();
+    assert_eq!(names, ["Z"]);
+    match &layer.channel_data.list[0].sample_data {
+        exr::prelude::FlatSamples::F32(v) => assert_eq!(v, &want),
+        other => panic!("not float32: {other:?}"),
+    }
+}

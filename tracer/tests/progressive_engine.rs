@@ -299,6 +299,34 @@ fn bad_options_are_errors() {
         assert!(Engine::new(GmModel::Mitchell, m.domain, v, 8, 8, o).is_err());
     }
     assert!(Engine::new(GmModel::Mitchell, m.domain, v, 0, 8, Options::new(1.0)).is_err());
+    // Sizes are checked before the buffers are allocated, at the output and at the
+    // anti-aliasing resolution.
+    let e = Engine::new(
+        GmModel::Mitchell,
+        m.domain,
+        v,
+        100_000,
+        100_000,
+        Options::new(1.0),
+    );
+    assert!(e.err().unwrap().contains("100000x100000"));
+    let mut o = Options::new(1.0);
+    o.aa = 16;
+    let e = Engine::new(GmModel::Mitchell, m.domain, v, 2000, 2000, o);
+    assert!(e.err().unwrap().contains("32000x32000"));
+    let e = Engine::new(
+        GmModel::Mitchell,
+        Aabb::cube(1e300),
+        v,
+        8,
+        8,
+        Options::new(1.0),
+    );
+    assert!(e.err().unwrap().contains("too large"));
+    let mut far = v;
+    far.eye = DVec3::splat(1e308);
+    let e = Engine::new(GmModel::Mitchell, m.domain, far, 8, 8, Options::new(1.0));
+    assert!(e.err().unwrap().contains("too far"));
 }
 
 #[test]

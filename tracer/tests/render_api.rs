@@ -98,3 +98,40 @@ fn degenerate_options_are_errors() {
     o.domain = Aabb::new(DVec3::ONE, DVec3::ZERO);
     assert!(render_kind(ArithKind::Ia, &BallOnFloor, &o).is_err());
 }
+
+/// The size is checked before any buffer is allocated: a 100000 x 100000 image would
+/// need 30 GB of colour alone.
+#[test]
+fn huge_and_empty_sizes_are_errors() {
+    for (w, h) in [(100_000, 100_000), (0, 0), (0, 48), (64, 0), (16_385, 1)] {
+        let mut o = opts();
+        o.width = w;
+        o.height = h;
+        // Were the size not checked, the render would skip every tile and then try to
+        // allocate the image.
+        o.deadline = Some(std::time::Instant::now());
+        let e = render_kind(ArithKind::Ia, &BallOnFloor, &o).unwrap_err();
+        assert!(
+            e.contains(&format!("{w}x{h}")) && e.contains("16384"),
+            "{e}"
+        );
+    }
+    let mut o = opts();
+    o.width = tracer::camera::MAX_SIDE;
+    o.height = 1;
+    o.tile = 1 << 20;
+    o.deadline = Some(std::time::Instant::now());
+    assert!(render_kind(ArithKind::Ia, &BallOnFloor, &o).is_ok());
+}
+
+#[test]
+fn overflowing_views_and_domains_are_errors() {
+    let mut o = opts();
+    o.view.eye = DVec3::splat(1e308);
+    let e = render_kind(ArithKind::Ia, &BallOnFloor, &o).unwrap_err();
+    assert!(e.contains("too far") && e.contains("1e308"), "{e}");
+    let mut o = opts();
+    o.domain = Aabb::cube(1e300);
+    let e = render_kind(ArithKind::Ia, &BallOnFloor, &o).unwrap_err();
+    assert!(e.contains("too large"), "{e}");
+}

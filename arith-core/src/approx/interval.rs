@@ -65,12 +65,23 @@ pub fn range_sqrt(a: f64, b: f64) -> (f64, f64) {
     (lo, sqrt_enc(b).1)
 }
 
-/// Rigorous enclosure of `{e^x : x ∈ [a, b]}`.
+/// Rigorous enclosure of `{e^x : x ∈ [a, b]}`. From the first float above
+/// `ln(f64::MAX)` on, where `e^a` exceeds every float, the lower bound is `f64::MAX`
+/// (the largest float not above `e^a`).
 pub fn range_exp(a: f64, b: f64) -> (f64, f64) {
     if bad(a, b) {
         return (0.0, f64::INFINITY);
     }
-    (libm_enclose(a.exp()).0.max(0.0), libm_enclose(b.exp()).1)
+    // The first float above ln(f64::MAX): `EXP_OVER - 1024 ln 2 > 2^-43 - 2^-44 > 0`
+    // (`1024 LN_2` is exact, `|LN_2 - ln 2| <= 2^-54`), so `e^EXP_OVER > 2^1024 > MAX`.
+    // There libm's `inf` would give `inf - inf`, a NaN lower bound, clipped to 0.
+    const EXP_OVER: f64 = 709.782_712_893_384_1;
+    let lo = if a >= EXP_OVER {
+        f64::MAX
+    } else {
+        libm_enclose(a.exp()).0.max(0.0)
+    };
+    (lo, libm_enclose(b.exp()).1)
 }
 
 /// Rigorous enclosure of `{ln x : x ∈ [a, b]}` (`-inf` lower bound when `a <= 0`;

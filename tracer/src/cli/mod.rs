@@ -17,13 +17,22 @@ use std::time::{Duration, Instant};
 /// The model that `MODEL`, `--expr` and a domain flag (`(flag, value)`: `--domain`,
 /// `--box`) select, from the one registry ([`crate::models`]): a built-in name or a
 /// formula (domain `[-2, 2]^3` unless the flag gives one, framed by
-/// [`crate::shape::View::framing`]).
+/// [`crate::camera::frame_box`]).
 pub fn model_source(
     name: Option<&str>,
     expr: Option<&str>,
     domain: Option<(&str, &str)>,
 ) -> Result<Model, String> {
-    let domain = domain.map(|(f, s)| parse_box(f, s)).transpose()?;
+    let domain = match domain {
+        Some((flag, s)) => {
+            let b = parse_box(flag, s)?;
+            if expr.is_some() {
+                crate::camera::frame_box(&b).map_err(|e| format!("{flag} '{s}': {e}"))?;
+            }
+            Some(b)
+        }
+        None => None,
+    };
     let mut model = match (name, expr) {
         (Some(_), Some(_)) => return Err("give either a MODEL or --expr, not both".into()),
         (None, None) => {
@@ -66,11 +75,7 @@ pub fn parse_vec3(flag: &str, s: &str) -> Result<DVec3, String> {
 pub fn parse_box(flag: &str, s: &str) -> Result<Aabb, String> {
     let v = parse_list(flag, s, 6)?;
     let b = Aabb::new(DVec3::new(v[0], v[1], v[2]), DVec3::new(v[3], v[4], v[5]));
-    if !(b.min.cmplt(b.max).all()) {
-        return Err(format!(
-            "{flag} '{s}': each minimum must be below its maximum"
-        ));
-    }
+    crate::shape::check_domain(&b).map_err(|e| format!("{flag} '{s}': {e}"))?;
     Ok(b)
 }
 

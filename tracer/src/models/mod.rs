@@ -64,16 +64,18 @@ pub struct Model {
 
 impl Model {
     /// A model of the formula `text` (see [`formula`]) over `domain` (default
-    /// `[-2, 2]^3`), viewed by [`View::framing`] of the domain.
-    pub fn formula(text: &str, domain: Option<Aabb>) -> Result<Model, formula::ParseError> {
-        let tape = formula::parse(text)?;
+    /// `[-2, 2]^3`), viewed by [`crate::camera::frame_box`] of the domain. Errors: the
+    /// formula's parse error, or a domain too large to frame.
+    pub fn formula(text: &str, domain: Option<Aabb>) -> Result<Model, String> {
+        let tape = formula::parse(text).map_err(|e| e.to_string())?;
         let domain = domain.unwrap_or(Aabb::cube(2.0));
+        let view = crate::camera::frame_box(&domain)?;
         Ok(Model {
             name: "expr".into(),
             description: text.trim().to_string(),
             shape: AnyShape::Expr(tape),
             domain,
-            view: View::framing(&domain),
+            view,
             lipschitz: None,
         })
     }

@@ -478,10 +478,17 @@ impl<S: Shape> Engine<S> {
         if opts.aa == 0 || opts.aa > 16 {
             return Err(format!("--aa must be in 1..=16, got {}", opts.aa));
         }
-        if width == 0 || height == 0 || width > 16384 || height > 16384 {
-            return Err(format!("image size {width}x{height} is out of range"));
-        }
+        crate::camera::check_size(width, height)?;
         let (vw, vh) = (width * opts.aa, height * opts.aa);
+        if vw > crate::camera::MAX_SIDE || vh > crate::camera::MAX_SIDE {
+            return Err(format!(
+                "image size {width}x{height} at --aa {} is {vw}x{vh} samples: each side \
+                 must be at most {} samples",
+                opts.aa,
+                crate::camera::MAX_SIDE
+            ));
+        }
+        crate::shape::check_domain(&domain).map_err(|e| format!("domain box: {e}"))?;
         let cam = Camera::try_new(view, vw, vh)?;
         let plan = Plan::new(vw, vh);
         let r_near = box_distance(cam.eye, &domain);

@@ -14,7 +14,7 @@ use crate::search::cull::{CullStats, Culler, Depths};
 use crate::search::ray::{
     clip, clip_with, first_root, first_roots, Precision, RayJob, RayParams, RayStats, Search,
 };
-use crate::shape::{Aabb, Shape, View};
+use crate::shape::{check_domain, Aabb, Shape, View};
 use arith_core::Arithmetic;
 use glam::DVec3;
 use rayon::prelude::*;
@@ -186,7 +186,8 @@ struct TileOut {
     stats: RenderStats,
 }
 
-/// Renders `shape` in the arithmetic `A`. Errors on a degenerate view or size.
+/// Renders `shape` in the arithmetic `A`. Errors, before allocating anything, on a
+/// degenerate view, size ([`crate::camera::check_size`]), precision or domain.
 pub fn render<A: Arithmetic, S: Shape + ?Sized>(
     shape: &S,
     opts: &RenderOptions,
@@ -199,9 +200,7 @@ pub fn render<A: Arithmetic, S: Shape + ?Sized>(
         }
     }
     let dom = opts.domain;
-    if !(dom.min.is_finite() && dom.max.is_finite() && dom.min.cmplt(dom.max).all()) {
-        return Err("domain box must be finite with min < max on every axis".into());
-    }
+    check_domain(&dom).map_err(|e| format!("domain box: {e}"))?;
     let precision = opts.precision(&cam);
     let params = RayParams {
         precision,
