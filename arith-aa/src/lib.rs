@@ -33,6 +33,8 @@
 //! assert_eq!(y.bounds(), (2.0, 3.0));
 //! ```
 
+#![forbid(unsafe_code)]
+
 use arith_core::approx::{self, Approx};
 use arith_core::round::{err, two_sum};
 use arith_core::{AffinePart, Arithmetic, Linear, Range, Real};

@@ -8,6 +8,8 @@
 //! - [`progressive`]: the progressive-refinement paper's Table 1 and Fig. 9.
 //! - [`scaling`]: cost as the resolution doubles, with and without culling.
 //! - [`rng`]: a small reproducible generator for sampling.
+
+#![forbid(unsafe_code)]
 pub mod chart;
 pub mod counter;
 pub mod paper;

@@ -245,7 +245,7 @@ fn run(cli: Cli) -> Result<(), String> {
 
 fn main() -> ExitCode {
     match run(Cli::parse()) {
-        Ok(()) if tracer::interrupt::requested() => ExitCode::from(tracer::interrupt::EXIT_CODE),
+        Ok(()) if tracer::interrupt::requested() => ExitCode::from(tracer::interrupt::exit_code()),
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e}");

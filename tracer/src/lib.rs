@@ -11,6 +11,8 @@
 //!   progressive previewer ([`progressive`], cone tracing);
 //! - the `tracer` binary (feature `cli`) on top; [`interrupt`] stops long work on Ctrl-C.
 
+#![forbid(unsafe_code)]
+
 pub mod arith;
 pub use arith::{arith_aa, arith_core, arith_ia, arith_raa, arith_revaa};
 pub use glam;

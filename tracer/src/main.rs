@@ -133,7 +133,7 @@ fn main() -> ExitCode {
     };
     match res {
         // Stopped by Ctrl-C after writing what was computed.
-        Ok(()) if tracer::interrupt::requested() => ExitCode::from(tracer::interrupt::EXIT_CODE),
+        Ok(()) if tracer::interrupt::requested() => ExitCode::from(tracer::interrupt::exit_code()),
         Ok(()) => ExitCode::SUCCESS,
         Err(msg) => {
             // One line, whatever the message held.
@@ -208,16 +208,14 @@ fn cmd_render(a: &RenderArgs) -> Result<(), String> {
         write_depth(d, width, height, &res.depth).map_err(|e| format!("--depth: {e}"))?;
     }
     if res.stats.cut {
+        let what = if a.depth.is_some() {
+            "image and depth were written (unfinished tiles are background, depth +inf)"
+        } else {
+            "image was written (unfinished tiles are background)"
+        };
         eprintln!(
-            "interrupted: {} of {} tiles done; the partial image{} written (unfinished tiles \
-             are background, depth +inf)",
-            res.stats.tiles_done,
-            res.stats.tiles_total,
-            if a.depth.is_some() {
-                " and depth were"
-            } else {
-                " was"
-            }
+            "interrupted: {} of {} tiles done; the partial {what}",
+            res.stats.tiles_done, res.stats.tiles_total,
         );
     }
     tracer::out!(

@@ -20,10 +20,25 @@ fn interrupt(args: &[&str], after: Duration) -> Output {
     interrupt_when(args, &[], after, || true)
 }
 
+/// [`interrupt`] with another signal (`"TERM"`).
+fn signal(sig: &str, args: &[&str], after: Duration) -> Output {
+    signal_when(sig, args, &[], after, || true)
+}
+
 /// [`interrupt`] with extra environment variables for the child, signalled once `after`
 /// has passed and `ready()` holds (polled for at most 90 s more), so a slow or busy
 /// machine cannot make the test interrupt before there is anything to keep.
 fn interrupt_when(
+    args: &[&str],
+    env: &[(&str, &str)],
+    after: Duration,
+    ready: impl Fn() -> bool,
+) -> Output {
+    signal_when("INT", args, env, after, ready)
+}
+
+fn signal_when(
+    sig: &str,
     args: &[&str],
     env: &[(&str, &str)],
     after: Duration,
@@ -48,12 +63,12 @@ fn interrupt_when(
     let pid = child.id().to_string();
     std::thread::sleep(after);
     let st = Command::new("kill")
-        .args(["-INT", &pid])
+        .args([&format!("-{sig}"), &pid])
         .status()
         .expect("run kill");
     assert!(
         st.success(),
-        "kill -INT {pid} failed: it exited before the signal"
+        "kill -{sig} {pid} failed: it exited before the signal"
     );
     // Reading the pipes while waiting keeps the child from blocking on a full pipe.
     let (tx, rx) = std::sync::mpsc::channel();
@@ -67,7 +82,7 @@ fn interrupt_when(
         }
         if start.elapsed() > Duration::from_secs(30) {
             let _ = Command::new("kill").args(["-KILL", &pid]).status();
-            panic!("tracer {args:?} did not stop within 30 s of SIGINT");
+            panic!("tracer {args:?} did not stop within 30 s of SIG{sig}");
         }
         std::thread::sleep(Duration::from_millis(20));
     }
@@ -262,4 +277,29 @@ fn window_preview_interrupted_writes_the_refined_image() {
         shaded_pixels(&img) > 0,
         "nothing refined in the written image"
     );
+}
+
+/// SIGTERM stops a render like Ctrl-C, with the conventional status 128 + 15.
+#[test]
+fn sigterm_exits_143_and_keeps_the_image() {
+    let png = tmp("term.png");
+    let _ = std::fs::remove_file(&png);
+    let args = [
+        "render",
+        "--expr",
+        "1 - x^2 - y^2 - z^2 + 0.05*sin(30*x)*sin(30*y)*sin(30*z)",
+        "--arith",
+        "ia",
+        "--no-culling",
+        "--size",
+        "1400x1400",
+        "--out",
+        png.to_str().unwrap(),
+    ];
+    let out = signal("TERM", &args, Duration::from_millis(800));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(143), "stderr: {err}");
+    assert!(err.contains("interrupted"), "stderr: {err}");
+    assert!(!err.contains("depth"), "no --depth was asked for: {err}");
+    image::open(&png).expect("partial PNG decodes");
 }
