@@ -1,7 +1,7 @@
 //! `bench-suite`: regenerates the paper's Table 1 and the studies past it.
 //!
 //! ```text
-//! bench-suite table1 [--full] [--scale F] [--models a,b] [--arith ia,aa,raa,revaa]
+//! bench-suite table1 [--full] [--scale F] [--models a,b] [--arith a,b]
 //!                    [--budget SECONDS] [--repeats N] [--culling] [--out DIR]
 //! bench-suite tightness [--models a,b] [--arith ...] [--samples N] [--out DIR]
 //! bench-suite scaling [--models a,b] [--arith revaa] [--base-scale F] [--steps N] [--out DIR]
@@ -39,7 +39,7 @@ enum Cmd {
         /// Comma-separated model names (default: every Appendix A model).
         #[arg(long)]
         models: Option<String>,
-        /// Comma-separated arithmetics (default: ia,aa,raa,revaa).
+        /// Comma-separated arithmetics (default: all of them).
         #[arg(long)]
         arith: Option<String>,
         /// Per-cell time budget in seconds (default 10, or 600 with --full).

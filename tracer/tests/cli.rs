@@ -410,3 +410,81 @@ fn exr_depth_is_one_z_channel() {
         other => panic!("not float32: {other:?}"),
     }
 }
+
+/// A formula may start with a minus, as FRep formulas often do.
+#[test]
+fn formulas_may_start_with_a_minus() {
+    let out = tracer(&["range", "--expr", "-1", "--box", "0,0,0,1,1,1"]);
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    let text = String::from_utf8_lossy(&out.stdout);
+    // Shortest round-trip decimals, one line per arithmetic of the list.
+    assert!(text.lines().all(|l| l.ends_with("[-1.0, -1.0]")), "{text}");
+    assert_eq!(
+        text.lines().count(),
+        tracer::arith::ArithKind::COUNT,
+        "{text}"
+    );
+    let png = tmp("minus.png");
+    let out = tracer(&[
+        "render",
+        "--expr",
+        "-(x^2 + y^2 + z^2 - 1)",
+        "--size",
+        "16x12",
+        "--quiet",
+        "--out",
+        png.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    assert!(image::open(&png).is_ok());
+}
+
+/// Every command takes every model `tracer list` shows: `range` over the model's domain,
+/// `preview` with a Lipschitz bound computed for a model that has none.
+#[test]
+fn range_and_preview_take_every_listed_model() {
+    let out = tracer(&["range", "decocube", "--arith", "ia", "--json"]);
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    assert!(String::from_utf8_lossy(&out.stdout).contains("\"arith\": \"ia\""));
+    let png = tmp("preview-decocube.png");
+    let out = tracer(&[
+        "preview",
+        "decocube",
+        "--headless",
+        "--width",
+        "16",
+        "--height",
+        "16",
+        "--out",
+        png.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    assert!(image::open(&png).is_ok());
+    // A formula previews too.
+    let out = tracer(&[
+        "preview",
+        "--expr",
+        "1 - x^2 - y^2 - z^2",
+        "--headless",
+        "--width",
+        "16",
+        "--height",
+        "16",
+        "--out",
+        png.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    // A gradient the interval bound cannot bound is one clear line, not a wrong image.
+    assert_user_error(
+        &[
+            "preview",
+            "hair",
+            "--headless",
+            "--width",
+            "8",
+            "--height",
+            "8",
+        ],
+        "Lipschitz",
+    );
+}

@@ -629,25 +629,22 @@ fn range_suite<R: Range>() {
     );
 }
 
-#[test]
-fn ranges_enclose_points_ia() {
-    range_suite::<arith_ia::Interval>();
+/// One `ranges_enclose_points` test per arithmetic of the one list (module named after
+/// its `ArithKind` variant), over its cell form.
+macro_rules! per_arithmetic {
+    ([ $($variant:ident => $family:path),* $(,)? ]) => {
+        $(
+            #[allow(non_snake_case)]
+            mod $variant {
+                #[test]
+                fn ranges_enclose_points() {
+                    super::range_suite::<<$family as arith_core::Arithmetic>::Cell>();
+                }
+            }
+        )*
+    };
 }
-
-#[test]
-fn ranges_enclose_points_aa() {
-    range_suite::<arith_aa::Aa>();
-}
-
-#[test]
-fn ranges_enclose_points_raa() {
-    range_suite::<arith_raa::Raa<3>>();
-}
-
-#[test]
-fn ranges_enclose_points_revaa() {
-    range_suite::<arith_revaa::RevAa<3>>();
-}
+tracer::arith_list!([per_arithmetic] {});
 
 #[test]
 fn tape_is_a_shape() {
