@@ -34,6 +34,7 @@
 //! ```
 
 #![forbid(unsafe_code)]
+#![warn(missing_docs)]
 
 use arith_core::approx::{self, Approx};
 use arith_core::round::{err, two_sum};

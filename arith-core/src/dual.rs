@@ -21,7 +21,9 @@ fn whole_line<R: Real>() -> R {
 /// an enclosure of its gradient there, hence a Lipschitz bound.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Dual<R> {
+    /// The value.
     pub v: R,
+    /// The gradient with respect to the three inputs.
     pub g: [R; 3],
 }
 

@@ -57,6 +57,7 @@
 //! ```
 
 #![forbid(unsafe_code)]
+#![warn(missing_docs)]
 
 pub mod affine_round;
 pub mod approx;

@@ -24,7 +24,9 @@ pub const LANES: usize = 4;
 pub trait Pack: Real {
     /// The scalar form of one lane.
     type Lane: Range;
+    /// Four lane forms as one pack, lane `k` from `lanes[k]`.
     fn pack(lanes: [Self::Lane; LANES]) -> Self;
+    /// The four lane forms.
     fn unpack(self) -> [Self::Lane; LANES];
     /// `self * m + c` with `m[k]` and `c[k]` in lane `k` (a ray's direction and origin
     /// component): each lane exactly the scalar `lane * m[k] + c[k]`.

@@ -112,8 +112,11 @@ pub struct Linear {
 /// `x0 + Σ xs[i] eps_i ± e` over the first `K` inputs: see [`Range::affine_part`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AffinePart<const K: usize> {
+    /// Centre.
     pub x0: f64,
+    /// Coefficients of the first `K` input symbols.
     pub xs: [f64; K],
+    /// Radius of everything else (other symbols, accumulated error), rounded up, `>= 0`.
     pub e: f64,
 }
 

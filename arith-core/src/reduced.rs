@@ -36,8 +36,11 @@ pub trait ReducedKind: Arithmetic + Sized {
 /// unlike [`Reduced::new`] they do not refuse a negative `e` (which would describe no
 /// value). Build forms with `new` or the [`Range`] constructors.
 pub struct Reduced<const N: usize, K> {
+    /// Centre.
     pub x0: f64,
+    /// Coefficients of the `N` input symbols.
     pub xs: [f64; N],
+    /// Radius of the error term (non-affine operations and rounding), `>= 0`.
     pub e: f64,
     kind: PhantomData<fn() -> K>,
 }

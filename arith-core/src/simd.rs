@@ -79,8 +79,11 @@ impl<const N: usize, K: ReducedLanes> ReducedForm<N> for Reduced<N, K> {
 /// Four forms `F`, structure of arrays: centres, coefficients, error radii (raw: see
 /// [`ReducedForm`]; no radius may be negative).
 pub struct ReducedX4<const N: usize, F> {
+    /// Centres, one per lane.
     pub x0: f64x4,
+    /// Coefficients of the `N` input symbols, one per lane.
     pub xs: [f64x4; N],
+    /// Error radii, one per lane.
     pub e: f64x4,
     form: PhantomData<F>,
 }

@@ -28,6 +28,7 @@
 //! ```
 
 #![forbid(unsafe_code)]
+#![warn(missing_docs)]
 
 use arith_core::{approx, Arithmetic, Range, Real};
 use core::ops::{Add, Div, Mul, Neg, Sub};

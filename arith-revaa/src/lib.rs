@@ -20,6 +20,7 @@
 //! RevAA's own `*` and `sqr`, which have closed forms.
 
 #![forbid(unsafe_code)]
+#![warn(missing_docs)]
 
 use arith_core::affine_round::{self as fp, k_mul, up_abs};
 use arith_core::reduced::{Reduced, ReducedKind};

@@ -9,14 +9,18 @@ use std::sync::OnceLock;
 /// a lower bound and drawn hollow).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Bar {
+    /// Seconds measured.
     pub seconds: f64,
+    /// Whether the run was stopped by its time budget (the bar is a lower bound).
     pub stopped: bool,
 }
 
 /// Bars of one model, one per series (arithmetic); `None` where it was not run.
 #[derive(Clone, Debug)]
 pub struct Group {
+    /// Group label (the model).
     pub label: String,
+    /// One bar per arithmetic; `None` where it was not run.
     pub bars: Vec<Option<Bar>>,
 }
 

@@ -10,11 +10,11 @@
 //! - [`rng`]: a small reproducible generator for sampling.
 
 #![forbid(unsafe_code)]
+#![warn(missing_docs)]
 pub mod chart;
 pub mod counter;
 pub mod paper;
 pub mod progressive;
-pub mod rng;
 pub mod scaling;
 pub mod table1;
 pub mod tightness;

@@ -13,6 +13,7 @@ pub struct PaperRow {
     pub aliases: &'static [&'static str],
     /// Resolution in pixels.
     pub width: u32,
+    /// Resolution's height in pixels.
     pub height: u32,
     /// All / Non-affine / Multiplications.
     pub ops: OpCounts,

@@ -15,11 +15,15 @@ use tracer::models::PaperModel;
 /// What to run.
 #[derive(Clone, Debug)]
 pub struct Options {
+    /// Models to run.
     pub models: Vec<PaperModel>,
+    /// The arithmetic.
     pub kind: ArithKind,
     /// Scale of the first step (fraction of the paper's resolution per axis).
     pub base_scale: f64,
+    /// Number of resolutions.
     pub steps: usize,
+    /// Time budget per render.
     pub budget: Duration,
 }
 
@@ -38,14 +42,23 @@ impl Default for Options {
 /// One measurement.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Point {
+    /// The model.
     pub model: PaperModel,
+    /// Image width in pixels.
     pub width: u32,
+    /// Image height in pixels.
     pub height: u32,
+    /// Whether cell culling was on.
     pub culling: bool,
+    /// Wall time of the render.
     pub seconds: f64,
+    /// Whether the time budget stopped it.
     pub stopped: bool,
+    /// Range evaluations on rays.
     pub ray_evals: u64,
+    /// Range evaluations on cells.
     pub cell_evals: u64,
+    /// Pixels that hit the surface.
     pub hits: u64,
 }
 

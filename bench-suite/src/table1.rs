@@ -43,6 +43,7 @@ pub struct Options {
     pub scale: f64,
     /// Models to run (tracer names), in the paper's order whatever the order given.
     pub models: Vec<PaperModel>,
+    /// Arithmetics to run, in table order.
     pub kinds: Vec<ArithKind>,
     /// Per-cell budget.
     pub budget: Duration,
@@ -59,6 +60,7 @@ pub struct Options {
 }
 
 impl Options {
+    /// The defaults, writing into the folder `out`.
     pub fn new(out: impl Into<PathBuf>) -> Options {
         Options {
             full: false,
@@ -134,6 +136,7 @@ pub fn parse_kinds(s: &str) -> Result<Vec<ArithKind>, String> {
 /// One arithmetic on one model.
 #[derive(Clone, Debug)]
 pub struct Cell {
+    /// The arithmetic.
     pub kind: ArithKind,
     /// Wall time of every completed run, seconds.
     pub runs: Vec<f64>,
@@ -146,8 +149,11 @@ pub struct Cell {
     pub stopped: bool,
     /// Range evaluations along rays and on culling cells, of one render.
     pub ray_evals: u64,
+    /// Range evaluations on cells.
     pub cell_evals: u64,
+    /// Pixels that hit the surface.
     pub hits: u64,
+    /// Pixels rendered.
     pub pixels: u64,
     /// Pixels whose hit flag differs from the reference arithmetic's.
     pub mask_diff: Option<usize>,
@@ -181,17 +187,24 @@ impl Cell {
 /// One model.
 #[derive(Clone, Debug)]
 pub struct Row {
+    /// The model.
     pub model: PaperModel,
+    /// Image width in pixels.
     pub width: u32,
+    /// Image height in pixels.
     pub height: u32,
+    /// Operation counts of the model's function.
     pub ops: OpCounts,
+    /// The paper's row, where it has one.
     pub paper: Option<&'static PaperRow>,
+    /// One cell per arithmetic run.
     pub cells: Vec<Cell>,
     /// The arithmetic whose hit mask the others are compared with.
     pub reference: Option<ArithKind>,
 }
 
 impl Row {
+    /// The cell of arithmetic `k`, if it was run.
     pub fn cell(&self, k: ArithKind) -> Option<&Cell> {
         self.cells.iter().find(|c| c.kind == k)
     }
@@ -233,9 +246,13 @@ impl Row {
 /// Everything one `table1` run measured.
 #[derive(Clone, Debug)]
 pub struct Report {
+    /// The rows, in the paper's order.
     pub rows: Vec<Row>,
+    /// The arithmetics run, in table order.
     pub kinds: Vec<ArithKind>,
+    /// The options it ran with.
     pub opts: Options,
+    /// Wall time of the whole run.
     pub total: Duration,
     /// Stopped by [`Options::cancel`]: some cells are not (fully) measured.
     pub interrupted: bool,

@@ -18,9 +18,9 @@
 //! region where a `min`/`max` clamps) are skipped; computed ranges that are unbounded
 //! are counted apart (`inf`) and left out of the mean.
 
-use crate::rng::Rng;
 use arith_core::{Arithmetic, Range};
 use tracer::arith::ArithKind;
+use tracer::models::noise::SplitMix64 as Rng;
 use tracer::shape::{Aabb, Shape};
 
 /// Sampling settings.
@@ -37,6 +37,7 @@ pub struct Settings {
     pub random: usize,
     /// Points per ray segment.
     pub ray_points: usize,
+    /// Seed of the sample generator.
     pub seed: u64,
 }
 
@@ -221,7 +222,7 @@ pub fn measure_model<S: Shape + ?Sized>(
     kinds: &[ArithKind],
     s: &Settings,
 ) -> Vec<(ArithKind, [Ratio; 3], [Ratio; 3])> {
-    let mut rng = Rng::new(s.seed);
+    let mut rng = Rng(s.seed);
     // ratios[k][size] for cells and segments
     let mut cell_r = vec![vec![Vec::new(); 3]; kinds.len()];
     let mut seg_r = vec![vec![Vec::new(); 3]; kinds.len()];
@@ -361,7 +362,7 @@ mod tests {
 
     #[test]
     fn sampled_range_of_a_saddle_hits_the_corners() {
-        let mut rng = Rng::new(3);
+        let mut rng = Rng(3);
         let cell = [(-1.0, 2.0), (0.5, 1.0), (0.0, 0.25)];
         let (lo, hi) = sampled_cell_range(&Saddle, &cell, 5, 0, &mut rng);
         // extrema at corners: min = -1*1 - 0.25, max = 2*1 - 0
@@ -371,7 +372,7 @@ mod tests {
     #[test]
     fn cells_and_segments_stay_in_the_domain() {
         let dom = Aabb::cube(2.0);
-        let mut rng = Rng::new(5);
+        let mut rng = Rng(5);
         for _ in 0..200 {
             let c = random_cell(&mut rng, &dom, 0.25);
             for (lo, hi) in c {

@@ -17,12 +17,17 @@ use glam::DVec3;
 /// A camera for one image size.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
+    /// Eye position (the origin of every ray).
     pub eye: DVec3,
+    /// Unit viewing direction.
     pub forward: DVec3,
+    /// Unit vector to the right in the image plane.
     pub right: DVec3,
     /// `right x forward`: the true up vector of the image plane.
     pub up: DVec3,
+    /// Image width in pixels.
     pub width: u32,
+    /// Image height in pixels.
     pub height: u32,
     /// `tan(fov/2)`.
     pub tan_half: f64,

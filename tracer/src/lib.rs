@@ -12,6 +12,7 @@
 //! - the `tracer` binary (feature `cli`) on top; [`interrupt`] stops long work on Ctrl-C.
 
 #![forbid(unsafe_code)]
+#![warn(missing_docs)]
 
 pub mod arith;
 pub use arith::{arith_aa, arith_core, arith_ia, arith_raa, arith_revaa};

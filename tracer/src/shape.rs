@@ -11,6 +11,7 @@ use glam::DVec3;
 /// A defining function `f(x, y, z)`, evaluable at points (`f64`), over every
 /// [`arith_core::Range`], over operation counters and over dual numbers alike.
 pub trait Shape: Send + Sync {
+    /// `f(x, y, z)`: `>= 0` inside, `0` on the surface.
     fn eval<R: Real>(&self, x: R, y: R, z: R) -> R;
 
     /// Whether [`Shape::eval`] over a pack of four forms ([`arith_core::pack`]) gives,
@@ -26,11 +27,14 @@ pub trait Shape: Send + Sync {
 /// An axis-aligned box.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Aabb {
+    /// The corner with the smallest coordinates.
     pub min: DVec3,
+    /// The corner with the largest coordinates.
     pub max: DVec3,
 }
 
 impl Aabb {
+    /// The box with corners `min` and `max`.
     pub fn new(min: DVec3, max: DVec3) -> Self {
         Aabb { min, max }
     }
@@ -61,8 +65,11 @@ pub fn check_domain(b: &Aabb) -> Result<(), String> {
 /// A pinhole camera placement (see [`crate::camera`] for the ray formula).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct View {
+    /// Eye position.
     pub eye: DVec3,
+    /// The point at the centre of the image.
     pub look_at: DVec3,
+    /// Up direction (need not be orthogonal to the viewing direction).
     pub up: DVec3,
     /// Vertical field of view in degrees.
     pub fov_deg: f64,

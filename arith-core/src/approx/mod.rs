@@ -43,8 +43,11 @@ use crate::round::{self, sub_hi};
 /// `f(x) ∈ alpha*x + zeta ± delta` on the interval it was built for.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Approx {
+    /// Slope of the linear part.
     pub alpha: f64,
+    /// Offset of the linear part.
     pub zeta: f64,
+    /// Maximum error of `alpha*x + zeta` against `f` on the interval, rounded up.
     pub delta: f64,
 }
 

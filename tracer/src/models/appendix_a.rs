@@ -14,14 +14,23 @@ use glam::DVec3;
 /// A model of Appendix A (plus our "sphere with trimming", which the paper only cites).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum PaperModel {
+    /// Mitchell's quartic.
     Mitchell,
+    /// The Bretzel (pretzel).
     Bretzel,
+    /// The decocube.
     Decocube,
+    /// A CSG construction of a box, a sphere and cylinders with R-functions.
     Csg,
+    /// A spherical shell trimmed by a procedural band (our model).
     SphereTrimming,
+    /// A sphere with sine noise.
     SphereNoise,
+    /// CSG with the paper's blending union and intersection.
     CsgBlending,
+    /// Hair: thin sine-modulated strands.
     Hair,
+    /// A hemispherical shell with a sine microstructure.
     SphereMicrostructure,
 }
 

@@ -53,6 +53,7 @@ pub struct Model {
     pub name: String,
     /// One-line description (the formula or its source).
     pub description: String,
+    /// The defining function.
     pub shape: AnyShape,
     /// The function is only considered inside this box (rays are clipped to it).
     pub domain: Aabb,

@@ -34,8 +34,11 @@ pub const NOISE_SEED: u64 = 2002;
 /// One compactly supported basis function `s p(|x - c| / R)`.
 #[derive(Clone, Copy, Debug)]
 pub struct Blob {
+    /// Centre of the support sphere.
     pub centre: DVec3,
+    /// Radius of the support sphere.
     pub radius: f64,
+    /// Weight `s` of the basis function.
     pub strength: f64,
 }
 
@@ -326,6 +329,7 @@ impl GmModel {
         }
     }
 
+    /// Command-line name (`mitchell-gm`, `blobby`, `hypertexture-3`, ...).
     pub fn name(&self) -> String {
         match *self {
             GmModel::Mitchell => "mitchell-gm".into(),

@@ -28,10 +28,15 @@ impl Light {
 /// Surface reflectance, RGB components in `[0, 1]`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Material {
+    /// Base colour, RGB in `[0, 1]`.
     pub colour: [f64; 3],
+    /// Ambient weight.
     pub ambient: f64,
+    /// Diffuse (Lambert) weight.
     pub diffuse: f64,
+    /// Specular (Blinn-Phong) weight.
     pub specular: f64,
+    /// Specular exponent.
     pub shininess: f64,
 }
 

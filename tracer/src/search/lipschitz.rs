@@ -47,8 +47,11 @@ pub fn box_project(p: DVec3, b: &Aabb) -> DVec3 {
 /// A shape restricted to its domain box with a Lipschitz bound: the unbounding radius
 /// used by every Lipschitz tracer, counting point evaluations.
 pub struct Bounded<'a, S: Shape + ?Sized> {
+    /// The function.
     pub shape: &'a S,
+    /// Where the function is considered: outside it there is no surface.
     pub domain: Aabb,
+    /// A Lipschitz bound of the function over `domain`.
     pub lambda: f64,
 }
 
