@@ -10,6 +10,45 @@
 //! - renderers: the reliable tracer ([`render`], with shading and output files) and the
 //!   progressive previewer ([`progressive`], cone tracing);
 //! - the `tracer` binary (feature `cli`) on top; [`interrupt`] stops long work on Ctrl-C.
+//!
+//! ## Example: render a model of your own
+//!
+//! A shape is a function written once over [`arith_core::Real`]; the renderer takes it
+//! with the arithmetic chosen at run time ([`arith::ArithKind`]) and never misses a
+//! root: every pixel whose ray meets the surface is reported as a hit.
+//!
+//! ```
+//! use tracer::arith::ArithKind;
+//! use tracer::arith_core::Real;
+//! use tracer::glam::DVec3;
+//! use tracer::render::{render_kind, RenderOptions};
+//! use tracer::shape::{Aabb, Shape, View};
+//!
+//! /// A torus of radii 1 and 0.3 around the y axis (`f >= 0` inside).
+//! struct Torus;
+//! impl Shape for Torus {
+//!     fn eval<R: Real>(&self, x: R, y: R, z: R) -> R {
+//!         let ring = (x.sqr() + z.sqr()).sqrt().rsub(1.0);
+//!         (ring.sqr() + y.sqr()).rsub(0.09)
+//!     }
+//! }
+//!
+//! let view = View {
+//!     eye: DVec3::new(0.0, 2.5, 2.5),
+//!     look_at: DVec3::ZERO,
+//!     up: DVec3::Y,
+//!     fov_deg: 45.0,
+//! };
+//! let opts = RenderOptions::for_view(view, Aabb::cube(1.5), 64, 48);
+//! let image = render_kind(ArithKind::Revaa, &Torus, &opts)?;
+//! assert_eq!(image.rgb.len(), 64 * 48 * 3);
+//! // Depth from the eye per pixel, +inf where the ray misses.
+//! let hits = image.depth.iter().filter(|d| d.is_finite()).count();
+//! assert!(hits > 0);
+//! let png = std::env::temp_dir().join("tracer-doc-torus.png");
+//! tracer::render::output::write_png(&png, 64, 48, &image.rgb)?;
+//! # Ok::<(), String>(())
+//! ```
 
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
