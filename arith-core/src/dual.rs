@@ -47,6 +47,25 @@ impl<R: Real> Dual<R> {
     }
 }
 
+/// `a / h` for `|a| <= h`, kept in `[-1, 1]`: the ratio itself where it is known to be
+/// there, the range's intersection with `[-1, 1]` for ranges, and `0` for points where
+/// `h = 0` (a generalised derivative of `hypot` at the origin).
+fn unit_ratio<R: Real>(a: &R, h: &R) -> R {
+    let q = a.clone() / h.clone();
+    match q.known() {
+        Known::Point(v) if (-1.0..=1.0).contains(&v) => q,
+        Known::Point(v) if v.is_nan() => R::constant(0.0),
+        Known::Point(v) => R::constant(v.clamp(-1.0, 1.0)),
+        Known::Range(lo, hi) if -1.0 <= lo && hi <= 1.0 => q,
+        Known::Range(lo, hi) => {
+            let (lo, hi) = (lo.max(-1.0), hi.min(1.0));
+            let (lo, hi) = if lo <= hi { (lo, hi) } else { (-1.0, 1.0) };
+            R::from_bounds(lo, hi).unwrap_or(q)
+        }
+        Known::Unknown => q,
+    }
+}
+
 /// `a ∪ b` as one value: the hull for known ranges, either one for points (a valid
 /// one-sided derivative), the whole line otherwise.
 fn hull<R: Real>(a: &R, b: &R) -> R {
@@ -194,6 +213,20 @@ impl<R: Real> Real for Dual<R> {
         let s = self.v.sqrt();
         self.chain(s.clone(), (s * 2.0).recip())
     }
+    fn hypot(&self, o: &Self) -> Self {
+        // d hypot(a, b) = (a/h) da + (b/h) db with h = hypot(a, b), and |a|, |b| <= h:
+        // each ratio lies in [-1, 1], also where h = 0 (every value there is a generalised
+        // gradient of the kink). The gradient stays bounded where the chain rule through
+        // `sqrt(a^2 + b^2)` divides by a range reaching 0.
+        let h = self.v.hypot(&o.v);
+        let (ra, rb) = (unit_ratio(&self.v, &h), unit_ratio(&o.v, &h));
+        Dual {
+            g: core::array::from_fn(|k| {
+                ra.clone() * self.g[k].clone() + rb.clone() * o.g[k].clone()
+            }),
+            v: h,
+        }
+    }
     fn recip(&self) -> Self {
         let r = self.v.recip();
         self.chain(r.clone(), -r.sqr())
@@ -231,6 +264,17 @@ impl<R: Real> Real for Dual<R> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn hypot_gradient_is_bounded_at_the_origin() {
+        // Over points: the exact gradient away from 0, a bounded one at 0.
+        let (x, y) = (Dual::var(3.0, 0), Dual::var(4.0, 1));
+        let h = x.hypot(&y);
+        assert!((h.v - 5.0).abs() < 1e-15 && (h.g[0] - 0.6).abs() < 1e-15);
+        assert!((h.g[1] - 0.8).abs() < 1e-15 && h.g[2] == 0.0);
+        let h0 = Dual::var(0.0, 0).hypot(&Dual::var(0.0, 1));
+        assert_eq!((h0.v, h0.g), (0.0, [0.0; 3]));
+    }
 
     #[test]
     fn dual_gradient_of_a_product() {

@@ -74,4 +74,30 @@ mod tests {
         let l = auto_lipschitz(&Sphere, &Aabb::new(DVec3::splat(0.5), DVec3::splat(1.5)), 2);
         assert!((1.0..3.5).contains(&l), "{l}");
     }
+
+    /// R-function intersection of two balls: `hypot` has a kink where both operands are
+    /// 0, yet the bound is finite (the chain rule through `sqrt` would divide by a range
+    /// reaching 0) and at least the gradient's norm at sampled points.
+    #[test]
+    fn r_function_bound_is_finite_and_above_the_gradient() {
+        struct Lens;
+        impl Shape for Lens {
+            fn eval<R: Real>(&self, x: R, y: R, z: R) -> R {
+                let a = (x.clone() - 0.5).sqr() + y.sqr() + z.sqr();
+                let b = (x + 0.5).sqr() + y.sqr() + z.sqr();
+                arith_core::rfunc::intersect(a.rsub(1.0), b.rsub(1.0))
+            }
+        }
+        let dom = Aabb::cube(1.5);
+        let l = auto_lipschitz(&Lens, &dom, 8);
+        assert!(l.is_finite(), "{l}");
+        for i in 0..=20 {
+            for j in 0..=20 {
+                let p = DVec3::new(-1.5 + 0.15 * i as f64, -1.5 + 0.15 * j as f64, 0.1);
+                let d = Lens.eval(Dual::var(p.x, 0), Dual::var(p.y, 1), Dual::var(p.z, 2));
+                let n = (d.g[0].powi(2) + d.g[1].powi(2) + d.g[2].powi(2)).sqrt();
+                assert!(n <= l, "|grad| {n} above the bound {l} at {p}");
+            }
+        }
+    }
 }

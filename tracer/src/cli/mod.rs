@@ -67,11 +67,13 @@ pub fn parse_list(flag: &str, s: &str, n: usize) -> Result<Vec<f64>, String> {
         .collect()
 }
 
+/// Parses `X,Y,Z` for `flag`.
 pub fn parse_vec3(flag: &str, s: &str) -> Result<DVec3, String> {
     let v = parse_list(flag, s, 3)?;
     Ok(DVec3::new(v[0], v[1], v[2]))
 }
 
+/// Parses `XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX` for `flag`: a box the renderers can work in.
 pub fn parse_box(flag: &str, s: &str) -> Result<Aabb, String> {
     let v = parse_list(flag, s, 6)?;
     let b = Aabb::new(DVec3::new(v[0], v[1], v[2]), DVec3::new(v[3], v[4], v[5]));
@@ -79,6 +81,7 @@ pub fn parse_box(flag: &str, s: &str) -> Result<Aabb, String> {
     Ok(b)
 }
 
+/// Parses a finite number above 0 for `flag`.
 pub fn parse_positive(flag: &str, s: &str) -> Result<f64, String> {
     match s.trim().parse::<f64>() {
         Ok(v) if v > 0.0 && v.is_finite() => Ok(v),
