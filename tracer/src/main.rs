@@ -225,6 +225,14 @@ fn cmd_render(a: &RenderArgs) -> Result<(), String> {
         opts.shadows
     );
     tracer::out!("{}", res.stats);
+    let (hits, unconfirmed) = (res.stats.hits, res.stats.unconfirmed);
+    if unconfirmed * 4 > hits {
+        eprintln!(
+            "warning: {unconfirmed} of {hits} hit pixels are unconfirmed (no sign change of f \
+             within the precision): f may be infinite or NaN on a region (a division by \
+             0, ln of values <= 0) or touch 0 without crossing it"
+        );
+    }
     tracer::out!("wrote {}", out.display());
     if let Some(d) = &a.depth {
         tracer::out!("wrote {}", d.display());

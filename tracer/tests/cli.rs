@@ -488,3 +488,79 @@ fn range_and_preview_take_every_listed_model() {
         "Lipschitz",
     );
 }
+
+/// A constant zero divisor or `ln` of a constant `<= 0` is a parse error naming the
+/// operator's column: such a formula is infinite or NaN everywhere.
+#[test]
+fn degenerate_formulas_are_errors() {
+    let out = tmp("degenerate.png");
+    let out = out.to_str().unwrap();
+    for (f, needle) in [
+        ("1/0 - x^2", "column 2: division by zero"),
+        ("x/0", "column 2: division by zero"),
+        ("x/(1-1)", "column 2: division by zero"),
+        ("0/0 + x", "column 2: division by zero"),
+        ("ln(0) + x", "column 1: ln of the constant 0"),
+    ] {
+        assert_user_error(
+            &["render", "--expr", f, "--size", "8x8", "--out", out],
+            needle,
+        );
+    }
+}
+
+/// The number after `unconfirmed hits:` in a render's stats.
+fn unconfirmed_of(stdout: &str) -> (u64, u64) {
+    let num = |key: &str| -> u64 {
+        let line = stdout
+            .lines()
+            .find(|l| l.starts_with(key))
+            .unwrap_or_else(|| panic!("no '{key}' in {stdout}"));
+        line[key.len()..].trim().parse().unwrap()
+    };
+    (num("unconfirmed hits:"), num("hit pixels:"))
+}
+
+/// A formula whose ranges hold 0 everywhere but which is nowhere 0 (`1/(x - x)` is
+/// `+inf` at points) hits every pixel; the stats count them unconfirmed and a one-line
+/// warning says so; a proper surface has no such warning.
+#[test]
+fn unconfirmed_hits_are_counted_and_warned_about() {
+    let png = tmp("unconfirmed.png");
+    let png = png.to_str().unwrap();
+    let out = tracer(&[
+        "render",
+        "--expr",
+        "1/(x - x) - y^2",
+        "--size",
+        "16x12",
+        "--quiet",
+        "--out",
+        png,
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    let (unconfirmed, hits) = unconfirmed_of(&String::from_utf8_lossy(&out.stdout));
+    assert!(hits > 0 && unconfirmed == hits, "{unconfirmed} of {hits}");
+    let lines: Vec<&str> = err.lines().filter(|l| !l.trim().is_empty()).collect();
+    assert_eq!(lines.len(), 1, "{err}");
+    assert!(lines[0].starts_with("warning: ") && lines[0].contains("unconfirmed"));
+
+    let out = tracer(&[
+        "render",
+        "--expr",
+        "1 - x^2 - y^2 - z^2",
+        "--size",
+        "16x12",
+        "--quiet",
+        "--out",
+        png,
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    assert!(out.stderr.is_empty(), "{out:?}");
+    let (unconfirmed, hits) = unconfirmed_of(&String::from_utf8_lossy(&out.stdout));
+    assert!(
+        hits > 0 && unconfirmed * 4 <= hits,
+        "{unconfirmed} of {hits}"
+    );
+}

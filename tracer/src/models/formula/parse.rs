@@ -16,6 +16,7 @@
 //! ```
 
 use super::ast::{BinOp, Binding, Expr, Func, Program, Var};
+use super::tape::folded_const;
 use std::collections::HashMap;
 use std::fmt;
 
@@ -237,6 +238,8 @@ struct Parser<'a> {
     nesting: usize,
     names: Vec<String>,
     index: HashMap<String, usize>,
+    /// The constant each binding folds to, if it does (see [`folded_const`]).
+    consts: Vec<Option<f64>>,
 }
 
 /// A subtree and its depth.
@@ -313,6 +316,7 @@ impl Parser<'_> {
             self.bump();
             self.index.insert(name.clone(), self.names.len());
             self.names.push(name.clone());
+            self.consts.push(folded_const(&expr, &self.consts));
             bindings.push(Binding { name, expr });
             if self.peek().tok == Tok::End {
                 return self.expected("the final expression after the bindings");
@@ -385,6 +389,14 @@ impl Parser<'_> {
             };
             let pos = self.bump().pos;
             let (r, rd) = self.unary()?;
+            // A constant divisor 0 makes the formula infinite or NaN everywhere: its
+            // ranges are the whole line and every ray would report a root.
+            if op == BinOp::Div && folded_const(&r, &self.consts) == Some(0.0) {
+                return self.err_at(
+                    pos,
+                    "division by zero: the divisor is the constant 0 (after folding)",
+                );
+            }
             (e, d) = self.node(Expr::bin(op, e, r), 1 + d.max(rd), pos)?;
         }
     }
@@ -581,6 +593,17 @@ impl Parser<'_> {
                 ),
             );
         }
+        // ln of a constant <= 0 is -inf or NaN everywhere (see the division above).
+        if f == Func::Ln {
+            if let Some(c) = args.first().and_then(|a| folded_const(a, &self.consts)) {
+                if c <= 0.0 {
+                    return self.err_at(
+                        pos,
+                        format!("ln of the constant {c:?}: ln needs a positive argument"),
+                    );
+                }
+            }
+        }
         self.node(Expr::Call(f, args), depth + 1, pos)
     }
 }
@@ -623,6 +646,7 @@ pub fn parse_program(src: &str) -> Result<Program, ParseError> {
         nesting: 0,
         names: Vec::new(),
         index: HashMap::new(),
+        consts: Vec::new(),
     };
     p.program()
 }
