@@ -28,12 +28,15 @@ struct Cli {
 #[derive(Subcommand, Debug)]
 enum Cmd {
     /// Render a model or a formula to a PNG (and optionally a depth map).
+    #[command(after_long_help = tracer::models::formula::SYNTAX)]
     Render(RenderArgs),
     /// Print the range of a formula over a box in each arithmetic.
+    #[command(after_long_help = tracer::models::formula::SYNTAX)]
     Range(RangeArgs),
     /// List the models with their domain and default view.
     List,
     /// Progressive refinement previewer (Lipschitz cone tracing).
+    #[command(after_long_help = tracer::models::formula::SYNTAX)]
     Preview(tracer::cli::preview::PreviewArgs),
 }
 
@@ -42,7 +45,8 @@ struct RenderArgs {
     /// Model name (see `tracer list`); or give --expr.
     model: Option<String>,
     /// A formula over x, y, z (f >= 0 inside), e.g. "1 - x^2 - y^2 - z^2"; its domain
-    /// defaults to [-2, 2]^3 (see --domain), its view frames the domain.
+    /// defaults to [-2, 2]^3 (see --domain), its view frames the domain. The language is
+    /// listed at the end of `--help`.
     #[arg(long, allow_hyphen_values = true)]
     expr: Option<String>,
     /// Arithmetic.
@@ -103,7 +107,7 @@ fn arith_help(all: bool) -> String {
 struct RangeArgs {
     /// Model name (see `tracer list`); or give --expr.
     model: Option<String>,
-    /// A formula over x, y, z.
+    /// A formula over x, y, z (the language is listed at the end of `--help`).
     #[arg(long, allow_hyphen_values = true)]
     expr: Option<String>,
     /// The box XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX (default: the model's domain; [-2, 2]^3 for

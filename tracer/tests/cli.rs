@@ -564,3 +564,25 @@ fn unconfirmed_hits_are_counted_and_warned_about() {
         "{unconfirmed} of {hits}"
     );
 }
+
+/// `--help` ends with the formula language; a missing '*' is one line saying so.
+#[test]
+fn help_lists_the_formula_language() {
+    for cmd in ["render", "range", "preview"] {
+        let out = tracer(&[cmd, "--help"]);
+        assert_eq!(out.status.code(), Some(0), "{out:?}");
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            text.contains(tracer::models::formula::SYNTAX.trim_end()),
+            "{cmd} --help: {text}"
+        );
+    }
+    let out = tmp("product.png");
+    let out = out.to_str().unwrap();
+    for f in ["17x", "20(x)", "1 - 3 (x + 1)"] {
+        assert_user_error(
+            &["render", "--expr", f, "--size", "8x8", "--out", out],
+            "a product needs '*'",
+        );
+    }
+}

@@ -8,7 +8,7 @@ use proptest::prelude::*;
 use proptest::sample::select;
 use tracer::models::formula::{
     parse, parse_program, BinOp, Binding, Expr, Func, Op, ParseError, Program, Tape, Var,
-    MAX_TREE_DEPTH,
+    MAX_TREE_DEPTH, SYNTAX,
 };
 
 /// Bitwise equality that treats every NaN as equal.
@@ -366,6 +366,12 @@ fn every_error_path_has_its_position() {
         ("1 2", 2, "but found number '2'"),
         ("1.2.3", 0, "invalid number '1.2.3'"),
         ("2x", 0, "invalid number '2x'"),
+        // An operand right after a number: both spellings say why.
+        ("17x", 0, "invalid number '17x' (a product needs '*'"),
+        ("20(x)", 2, "but found '(' (a product needs '*'"),
+        ("1 - 3 (x + 1)", 6, "a product needs '*'"),
+        ("(2 x)", 3, "a product needs '*'"),
+        ("sin(2(x))", 5, "a product needs '*'"),
         ("1e", 1, "expected digits after the exponent mark"),
         ("1e+ 2", 1, "expected digits after the exponent mark"),
         ("1e999", 0, "too large"),
@@ -488,6 +494,27 @@ fn constant_zero_divisors_and_ln_domain() {
         body: Expr::bin(BinOp::Div, Expr::Var(Var::X), Expr::Num(0.0)),
     };
     assert!(Tape::compile(&p).is_ok());
+}
+
+/// The one text of the language names every function and operator, and is the README's.
+#[test]
+fn syntax_text_is_complete_and_in_the_readme() {
+    for f in Func::ALL {
+        assert!(SYNTAX.contains(f.name()), "{}", f.name());
+    }
+    for op in BinOp::ALL {
+        assert!(SYNTAX.contains(op.symbol()), "{}", op.symbol());
+    }
+    for w in ["^", "#", "name = expr;", "x  y  z"] {
+        assert!(SYNTAX.contains(w), "{w}");
+    }
+    let readme = include_str!("../../README.md");
+    assert!(
+        readme.contains(SYNTAX),
+        "README.md lacks the formula language text"
+    );
+    // Its example binding parses.
+    tape("b = 0.36 - x^2; s = 0.7 - x^2 - y^2; b | s");
 }
 
 #[test]

@@ -17,7 +17,8 @@ pub const AUTO_LIPSCHITZ_SPLITS: usize = 16;
 pub struct PreviewArgs {
     /// Model name (see `tracer list`); or give --expr.
     pub model: Option<String>,
-    /// A formula over x, y, z (f >= 0 inside), as for `tracer render --expr`.
+    /// A formula over x, y, z (f >= 0 inside), as for `tracer render --expr` (the
+    /// language is listed at the end of `--help`).
     #[arg(long, allow_hyphen_values = true)]
     pub expr: Option<String>,
     /// Domain box XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX (default: the model's; [-2, 2]^3 for a

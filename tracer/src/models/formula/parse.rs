@@ -85,6 +85,9 @@ impl fmt::Display for ParseError {
 
 impl std::error::Error for ParseError {}
 
+/// What a number followed by a name, a number or `(` is told: `17x`, `20(x)`.
+const PRODUCT_HINT: &str = "a product needs '*', as in 2*x";
+
 /// Deepest nesting of parentheses, calls and unary minus signs accepted.
 pub const MAX_NESTING: usize = 200;
 /// Deepest syntax tree accepted (long chains like `x + x + ... + x` nest to the left).
@@ -171,7 +174,7 @@ fn lex(chars: &[char]) -> Result<Vec<Token>, ParseError> {
                 return Err(ParseError::new(
                     chars,
                     start,
-                    format!("invalid number '{text}' (a product needs '*', as in 2*x)"),
+                    format!("invalid number '{text}' ({PRODUCT_HINT})"),
                 ));
             }
             let text: String = chars[start..i].iter().collect();
@@ -269,6 +272,19 @@ impl Parser<'_> {
         let t = self.peek();
         self.err_at(t.pos, format!("expected {what} but found {}", describe(t)))
     }
+    /// [`Parser::expected`] where an operator could come next: an operand right after
+    /// a complete one (`20(x)`, `x y`) is told that a product needs '*'.
+    fn expected_operator<T>(&self, what: &str) -> Result<T, ParseError> {
+        let t = self.peek();
+        let hint = match t.tok {
+            Tok::Sym('(') | Tok::Name(_) | Tok::Num(..) => format!(" ({PRODUCT_HINT})"),
+            _ => String::new(),
+        };
+        self.err_at(
+            t.pos,
+            format!("expected {what} but found {}{hint}", describe(t)),
+        )
+    }
     fn enter(&mut self) -> Result<(), ParseError> {
         self.nesting += 1;
         if self.nesting > MAX_NESTING {
@@ -334,7 +350,7 @@ impl Parser<'_> {
             }
         }
         if self.peek().tok != Tok::End {
-            return self.expected("an operator or end of input");
+            return self.expected_operator("an operator or end of input");
         }
         Ok(Program { bindings, body })
     }
@@ -512,7 +528,8 @@ impl Parser<'_> {
                 let (e, d) = self.union()?;
                 if !self.is_sym(')') {
                     let col = ParseError::new(self.chars, t.pos, "").column;
-                    return self.expected(&format!("')' to close the '(' at column {col}"));
+                    return self
+                        .expected_operator(&format!("')' to close the '(' at column {col}"));
                 }
                 self.bump();
                 Ok((e, d))
@@ -578,7 +595,7 @@ impl Parser<'_> {
         }
         if !self.is_sym(')') {
             let col = ParseError::new(self.chars, open, "").column;
-            return self.expected(&format!("',' or ')' to close the '(' at column {col}"));
+            return self.expected_operator(&format!("',' or ')' to close the '(' at column {col}"));
         }
         self.bump();
         if args.len() != f.arity() {
