@@ -586,3 +586,159 @@ fn help_lists_the_formula_language() {
         );
     }
 }
+
+#[test]
+fn completions_and_man_page() {
+    let out = tracer(&["completions", "bash"]);
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("tracer") && text.contains("render"), "{text}");
+    for sh in ["zsh", "fish", "elvish", "powershell"] {
+        let out = tracer(&["completions", sh]);
+        assert_eq!(out.status.code(), Some(0), "{sh}: {out:?}");
+        assert!(
+            String::from_utf8_lossy(&out.stdout).contains("render"),
+            "{sh}"
+        );
+    }
+    assert_user_error(&["completions", "tcsh"], "unknown shell 'tcsh'");
+    let out = tracer(&["man"]);
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.starts_with(".TH"), "{}", &text[..text.len().min(200)]);
+    assert!(text.contains("render"), "{text}");
+}
+
+#[test]
+fn threads_flag() {
+    let png = tmp("threads.png");
+    let png = png.to_str().unwrap();
+    for bad in ["0", "-1", "two", "1.5", "100000"] {
+        assert_user_error(
+            &[
+                "render",
+                "csg",
+                "--size",
+                "8x8",
+                "--out",
+                png,
+                "--threads",
+                bad,
+            ],
+            "--threads",
+        );
+        assert_user_error(
+            &[
+                "preview",
+                "csg",
+                "--headless",
+                "--size",
+                "8x8",
+                "--threads",
+                bad,
+            ],
+            "--threads",
+        );
+    }
+    let out = tracer(&[
+        "render",
+        "csg",
+        "--size",
+        "16x12",
+        "--quiet",
+        "--out",
+        png,
+        "--threads",
+        "2",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+}
+
+/// `--stats json`: one JSON object on stdout holding every counter.
+#[test]
+fn stats_as_json() {
+    let png = tmp("json.png");
+    let out = tracer(&[
+        "render",
+        "--expr",
+        "1 - x^2 - y^2 - z^2",
+        "--size",
+        "16x12",
+        "--quiet",
+        "--stats",
+        "json",
+        "--out",
+        png.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    let text = String::from_utf8_lossy(&out.stdout);
+    let j = text.trim();
+    assert_eq!(text.lines().count(), 1, "{text}");
+    assert!(j.starts_with('{') && j.ends_with('}'), "{j}");
+    for key in [
+        "\"width\": 16",
+        "\"height\": 12",
+        "\"arith\": \"revaa\"",
+        "\"wall_s\": ",
+        "\"rays\": ",
+        "\"shadow_rays\": ",
+        "\"range_evals\": ",
+        "\"range_evals_hit\": ",
+        "\"cell_evals\": ",
+        "\"point_evals\": ",
+        "\"cells_culled\": ",
+        "\"pixels_culled\": ",
+        "\"pruned_empty\": ",
+        "\"hits\": ",
+        "\"unconfirmed\": ",
+        "\"cut\": false",
+        "\"tiles_done\": ",
+        "\"tiles_total\": ",
+    ] {
+        assert!(j.contains(key), "no {key} in {j}");
+    }
+    // Balanced quotes and one level of braces: a flat object.
+    assert_eq!(j.matches('"').count() % 2, 0, "{j}");
+    assert_eq!(j.matches('{').count(), 1, "{j}");
+    let hits: u64 = j
+        .split("\"hits\": ")
+        .nth(1)
+        .and_then(|r| r.split([',', '}']).next())
+        .and_then(|v| v.trim().parse().ok())
+        .expect("hits is a number");
+    assert!(hits > 0, "{j}");
+    assert_user_error(
+        &["render", "csg", "--size", "8x8", "--stats", "xml"],
+        "--stats 'xml'",
+    );
+}
+
+#[test]
+fn preview_takes_size() {
+    let png = tmp("preview-size.png");
+    let out = tracer(&[
+        "preview",
+        "--expr",
+        "1 - x^2 - y^2 - z^2",
+        "--headless",
+        "--size",
+        "16x12",
+        "--out",
+        png.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    let img = image::open(&png).expect("valid PNG");
+    assert_eq!((img.width(), img.height()), (16, 12));
+    assert_user_error(&["preview", "csg", "--headless", "--size", "0x3"], "--size");
+    // --width/--height stay, but not together with --size.
+    let out = tracer(&[
+        "preview",
+        "csg",
+        "--headless",
+        "--size",
+        "8x8",
+        "--width",
+        "8",
+    ]);
+    assert_eq!(out.status.code(), Some(2), "{out:?}");
+}
