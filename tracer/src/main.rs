@@ -1,15 +1,16 @@
 //! `tracer`: reliable ray casting of implicit surfaces from the command line.
 //!
-//! `tracer render`, `tracer range`, `tracer list`, `tracer preview` (see `--help`).
+//! `tracer render`, `tracer range`, `tracer list`, `tracer preview` (see `--help`), and
+//! `tracer completions SHELL`, `tracer man` for the shell and the manual.
 //! User errors print one line on stderr and exit with code 2. Ctrl-C stops `render` and
 //! `preview` early: what was computed is written, and the exit code is 130.
 
 use arith_core::{Arithmetic, Range};
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, Parser, Subcommand};
 use std::path::PathBuf;
 use std::process::ExitCode;
 use tracer::arith::ArithKind;
-use tracer::cli::{model_source, parse_positive, parse_vec3};
+use tracer::cli::{model_source, parse_positive, parse_size, parse_vec3};
 use tracer::render::output::{check_outputs, write_depth, write_png};
 use tracer::render::{render_kind, RenderOptions};
 use tracer::shape::{Aabb, Shape};
@@ -28,13 +29,23 @@ struct Cli {
 #[derive(Subcommand, Debug)]
 enum Cmd {
     /// Render a model or a formula to a PNG (and optionally a depth map).
+    #[command(after_long_help = tracer::models::formula::SYNTAX)]
     Render(RenderArgs),
     /// Print the range of a formula over a box in each arithmetic.
+    #[command(after_long_help = tracer::models::formula::SYNTAX)]
     Range(RangeArgs),
     /// List the models with their domain and default view.
     List,
     /// Progressive refinement previewer (Lipschitz cone tracing).
+    #[command(after_long_help = tracer::models::formula::SYNTAX)]
     Preview(tracer::cli::preview::PreviewArgs),
+    /// Print a shell completion script: bash, zsh, fish, elvish or powershell.
+    Completions {
+        /// The shell.
+        shell: String,
+    },
+    /// Print the manual page (roff), e.g. `tracer man > tracer.1`.
+    Man,
 }
 
 #[derive(clap::Args, Debug)]
@@ -42,7 +53,8 @@ struct RenderArgs {
     /// Model name (see `tracer list`); or give --expr.
     model: Option<String>,
     /// A formula over x, y, z (f >= 0 inside), e.g. "1 - x^2 - y^2 - z^2"; its domain
-    /// defaults to [-2, 2]^3 (see --domain), its view frames the domain.
+    /// defaults to [-2, 2]^3 (see --domain), its view frames the domain. The language is
+    /// listed at the end of `--help`.
     #[arg(long, allow_hyphen_values = true)]
     expr: Option<String>,
     /// Arithmetic.
@@ -87,6 +99,12 @@ struct RenderArgs {
     /// No progress bar.
     #[arg(long, short)]
     quiet: bool,
+    /// Worker threads (default: one per core).
+    #[arg(long, allow_hyphen_values = true)]
+    threads: Option<String>,
+    /// Statistics: text (default), or json (one object on stdout, nothing else there).
+    #[arg(long, default_value = "text", allow_hyphen_values = true)]
+    stats: String,
 }
 
 /// The `--arith` help text, listing the arithmetics of the one list.
@@ -103,7 +121,7 @@ fn arith_help(all: bool) -> String {
 struct RangeArgs {
     /// Model name (see `tracer list`); or give --expr.
     model: Option<String>,
-    /// A formula over x, y, z.
+    /// A formula over x, y, z (the language is listed at the end of `--help`).
     #[arg(long, allow_hyphen_values = true)]
     expr: Option<String>,
     /// The box XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX (default: the model's domain; [-2, 2]^3 for
@@ -130,6 +148,8 @@ fn main() -> ExitCode {
             tracer::interrupt::install();
             tracer::cli::preview::run_preview(a)
         }
+        Cmd::Completions { shell } => cmd_completions(shell),
+        Cmd::Man => cmd_man(),
     };
     match res {
         // Stopped by Ctrl-C after writing what was computed.
@@ -143,20 +163,15 @@ fn main() -> ExitCode {
     }
 }
 
-fn parse_size(s: &str) -> Result<(u32, u32), String> {
-    let max = tracer::camera::MAX_SIDE;
-    let err =
-        || format!("--size '{s}': expected WxH with positive integers up to {max}, e.g. 640x480");
-    let (w, h) = s.split_once(['x', 'X']).ok_or_else(err)?;
-    let w: u32 = w.trim().parse().map_err(|_| err())?;
-    let h: u32 = h.trim().parse().map_err(|_| err())?;
-    tracer::camera::check_size(w, h).map_err(|_| err())?;
-    Ok((w, h))
-}
-
 fn cmd_render(a: &RenderArgs) -> Result<(), String> {
     let kind: ArithKind = a.arith.parse().map_err(|e| format!("--arith: {e}"))?;
-    let (width, height) = parse_size(&a.size)?;
+    let (width, height) = parse_size("--size", &a.size)?;
+    let json = match a.stats.as_str() {
+        "text" => false,
+        "json" => true,
+        s => return Err(format!("--stats '{s}': expected text or json")),
+    };
+    tracer::cli::set_threads(a.threads.as_deref())?;
     let model = model_source(
         a.model.as_deref(),
         a.expr.as_deref(),
@@ -218,18 +233,86 @@ fn cmd_render(a: &RenderArgs) -> Result<(), String> {
             res.stats.tiles_done, res.stats.tiles_total,
         );
     }
-    tracer::out!(
-        "{name} {width}x{height} arith={kind} culling={} pruning={} shadows={}",
-        opts.culling,
-        opts.pruning,
-        opts.shadows
-    );
-    tracer::out!("{}", res.stats);
-    tracer::out!("wrote {}", out.display());
-    if let Some(d) = &a.depth {
-        tracer::out!("wrote {}", d.display());
+    if json {
+        let j = tracer::cli::stats_json(&name, width, height, kind.name(), &res.stats);
+        tracer::out!("{j}");
+    } else {
+        tracer::out!(
+            "{name} {width}x{height} arith={kind} culling={} pruning={} shadows={}",
+            opts.culling,
+            opts.pruning,
+            opts.shadows
+        );
+        tracer::out!("{}", res.stats);
+    }
+    let (hits, unconfirmed) = (res.stats.hits, res.stats.unconfirmed);
+    if unconfirmed * 4 > hits {
+        eprintln!(
+            "warning: {unconfirmed} of {hits} hit pixels are unconfirmed (no sign change of f \
+             within the precision): f may be infinite or NaN on a region (a division by \
+             0, ln of values <= 0) or touch 0 without crossing it"
+        );
+    }
+    if !json {
+        tracer::out!("wrote {}", out.display());
+        if let Some(d) = &a.depth {
+            tracer::out!("wrote {}", d.display());
+        }
     }
     Ok(())
+}
+
+/// Writes `bytes` to stdout (a closed stdout ends the process quietly, as `out!`).
+fn write_stdout(bytes: &[u8]) -> Result<(), String> {
+    use std::io::Write as _;
+    let mut o = std::io::stdout().lock();
+    match o.write_all(bytes).and_then(|()| o.flush()) {
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => std::process::exit(0),
+        r => r.map_err(|e| format!("cannot write to stdout: {e}")),
+    }
+}
+
+fn cmd_completions(shell: &str) -> Result<(), String> {
+    use clap_complete::Shell;
+    let sh = match shell.to_ascii_lowercase().as_str() {
+        "bash" => Shell::Bash,
+        "zsh" => Shell::Zsh,
+        "fish" => Shell::Fish,
+        "elvish" => Shell::Elvish,
+        "powershell" => Shell::PowerShell,
+        _ => {
+            return Err(format!(
+                "completions: unknown shell '{shell}' (bash, zsh, fish, elvish or powershell)"
+            ))
+        }
+    };
+    let mut buf = Vec::new();
+    clap_complete::generate(sh, &mut Cli::command(), "tracer", &mut buf);
+    write_stdout(&buf)
+}
+
+fn cmd_man() -> Result<(), String> {
+    let mut buf = Vec::new();
+    clap_mangen::Man::new(Cli::command())
+        .render(&mut buf)
+        .map_err(|e| format!("man: {e}"))?;
+    // The page opens with its `.TH` title, as man(7) has it; the rendering puts the
+    // definition of the apostrophe string (used only further down) before it.
+    let page = String::from_utf8_lossy(&buf);
+    let lines: Vec<&str> = page.lines().collect();
+    let mut out = String::with_capacity(page.len() + 1);
+    if let Some(k) = lines.iter().position(|l| l.starts_with(".TH")) {
+        for l in std::iter::once(&lines[k])
+            .chain(&lines[..k])
+            .chain(&lines[k + 1..])
+        {
+            out.push_str(l);
+            out.push('\n');
+        }
+    } else {
+        out.push_str(&page);
+    }
+    write_stdout(out.as_bytes())
 }
 
 fn range_over<A: Arithmetic, S: Shape>(shape: &S, b: &Aabb) -> (f64, f64) {

@@ -488,3 +488,257 @@ fn range_and_preview_take_every_listed_model() {
         "Lipschitz",
     );
 }
+
+/// A constant zero divisor or `ln` of a constant `<= 0` is a parse error naming the
+/// operator's column: such a formula is infinite or NaN everywhere.
+#[test]
+fn degenerate_formulas_are_errors() {
+    let out = tmp("degenerate.png");
+    let out = out.to_str().unwrap();
+    for (f, needle) in [
+        ("1/0 - x^2", "column 2: division by zero"),
+        ("x/0", "column 2: division by zero"),
+        ("x/(1-1)", "column 2: division by zero"),
+        ("0/0 + x", "column 2: division by zero"),
+        ("ln(0) + x", "column 1: ln of the constant 0"),
+    ] {
+        assert_user_error(
+            &["render", "--expr", f, "--size", "8x8", "--out", out],
+            needle,
+        );
+    }
+}
+
+/// The number after `unconfirmed hits:` in a render's stats.
+fn unconfirmed_of(stdout: &str) -> (u64, u64) {
+    let num = |key: &str| -> u64 {
+        let line = stdout
+            .lines()
+            .find(|l| l.starts_with(key))
+            .unwrap_or_else(|| panic!("no '{key}' in {stdout}"));
+        line[key.len()..].trim().parse().unwrap()
+    };
+    (num("unconfirmed hits:"), num("hit pixels:"))
+}
+
+/// A formula whose ranges hold 0 everywhere but which is nowhere 0 (`1/(x - x)` is
+/// `+inf` at points) hits every pixel; the stats count them unconfirmed and a one-line
+/// warning says so; a proper surface has no such warning.
+#[test]
+fn unconfirmed_hits_are_counted_and_warned_about() {
+    let png = tmp("unconfirmed.png");
+    let png = png.to_str().unwrap();
+    let out = tracer(&[
+        "render",
+        "--expr",
+        "1/(x - x) - y^2",
+        "--size",
+        "16x12",
+        "--quiet",
+        "--out",
+        png,
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    let (unconfirmed, hits) = unconfirmed_of(&String::from_utf8_lossy(&out.stdout));
+    assert!(hits > 0 && unconfirmed == hits, "{unconfirmed} of {hits}");
+    let lines: Vec<&str> = err.lines().filter(|l| !l.trim().is_empty()).collect();
+    assert_eq!(lines.len(), 1, "{err}");
+    assert!(lines[0].starts_with("warning: ") && lines[0].contains("unconfirmed"));
+
+    let out = tracer(&[
+        "render",
+        "--expr",
+        "1 - x^2 - y^2 - z^2",
+        "--size",
+        "16x12",
+        "--quiet",
+        "--out",
+        png,
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    assert!(out.stderr.is_empty(), "{out:?}");
+    let (unconfirmed, hits) = unconfirmed_of(&String::from_utf8_lossy(&out.stdout));
+    assert!(
+        hits > 0 && unconfirmed * 4 <= hits,
+        "{unconfirmed} of {hits}"
+    );
+}
+
+/// `--help` ends with the formula language; a missing '*' is one line saying so.
+#[test]
+fn help_lists_the_formula_language() {
+    for cmd in ["render", "range", "preview"] {
+        let out = tracer(&[cmd, "--help"]);
+        assert_eq!(out.status.code(), Some(0), "{out:?}");
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            text.contains(tracer::models::formula::SYNTAX.trim_end()),
+            "{cmd} --help: {text}"
+        );
+    }
+    let out = tmp("product.png");
+    let out = out.to_str().unwrap();
+    for f in ["17x", "20(x)", "1 - 3 (x + 1)"] {
+        assert_user_error(
+            &["render", "--expr", f, "--size", "8x8", "--out", out],
+            "a product needs '*'",
+        );
+    }
+}
+
+#[test]
+fn completions_and_man_page() {
+    let out = tracer(&["completions", "bash"]);
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("tracer") && text.contains("render"), "{text}");
+    for sh in ["zsh", "fish", "elvish", "powershell"] {
+        let out = tracer(&["completions", sh]);
+        assert_eq!(out.status.code(), Some(0), "{sh}: {out:?}");
+        assert!(
+            String::from_utf8_lossy(&out.stdout).contains("render"),
+            "{sh}"
+        );
+    }
+    assert_user_error(&["completions", "tcsh"], "unknown shell 'tcsh'");
+    let out = tracer(&["man"]);
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.starts_with(".TH"), "{}", &text[..text.len().min(200)]);
+    assert!(text.contains("render"), "{text}");
+}
+
+#[test]
+fn threads_flag() {
+    let png = tmp("threads.png");
+    let png = png.to_str().unwrap();
+    for bad in ["0", "-1", "two", "1.5", "100000"] {
+        assert_user_error(
+            &[
+                "render",
+                "csg",
+                "--size",
+                "8x8",
+                "--out",
+                png,
+                "--threads",
+                bad,
+            ],
+            "--threads",
+        );
+        assert_user_error(
+            &[
+                "preview",
+                "csg",
+                "--headless",
+                "--size",
+                "8x8",
+                "--threads",
+                bad,
+            ],
+            "--threads",
+        );
+    }
+    let out = tracer(&[
+        "render",
+        "csg",
+        "--size",
+        "16x12",
+        "--quiet",
+        "--out",
+        png,
+        "--threads",
+        "2",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+}
+
+/// `--stats json`: one JSON object on stdout holding every counter.
+#[test]
+fn stats_as_json() {
+    let png = tmp("json.png");
+    let out = tracer(&[
+        "render",
+        "--expr",
+        "1 - x^2 - y^2 - z^2",
+        "--size",
+        "16x12",
+        "--quiet",
+        "--stats",
+        "json",
+        "--out",
+        png.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    let text = String::from_utf8_lossy(&out.stdout);
+    let j = text.trim();
+    assert_eq!(text.lines().count(), 1, "{text}");
+    assert!(j.starts_with('{') && j.ends_with('}'), "{j}");
+    for key in [
+        "\"width\": 16",
+        "\"height\": 12",
+        "\"arith\": \"revaa\"",
+        "\"wall_s\": ",
+        "\"rays\": ",
+        "\"shadow_rays\": ",
+        "\"range_evals\": ",
+        "\"range_evals_hit\": ",
+        "\"cell_evals\": ",
+        "\"point_evals\": ",
+        "\"cells_culled\": ",
+        "\"pixels_culled\": ",
+        "\"pruned_empty\": ",
+        "\"hits\": ",
+        "\"unconfirmed\": ",
+        "\"cut\": false",
+        "\"tiles_done\": ",
+        "\"tiles_total\": ",
+    ] {
+        assert!(j.contains(key), "no {key} in {j}");
+    }
+    // Balanced quotes and one level of braces: a flat object.
+    assert_eq!(j.matches('"').count() % 2, 0, "{j}");
+    assert_eq!(j.matches('{').count(), 1, "{j}");
+    let hits: u64 = j
+        .split("\"hits\": ")
+        .nth(1)
+        .and_then(|r| r.split([',', '}']).next())
+        .and_then(|v| v.trim().parse().ok())
+        .expect("hits is a number");
+    assert!(hits > 0, "{j}");
+    assert_user_error(
+        &["render", "csg", "--size", "8x8", "--stats", "xml"],
+        "--stats 'xml'",
+    );
+}
+
+#[test]
+fn preview_takes_size() {
+    let png = tmp("preview-size.png");
+    let out = tracer(&[
+        "preview",
+        "--expr",
+        "1 - x^2 - y^2 - z^2",
+        "--headless",
+        "--size",
+        "16x12",
+        "--out",
+        png.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    let img = image::open(&png).expect("valid PNG");
+    assert_eq!((img.width(), img.height()), (16, 12));
+    assert_user_error(&["preview", "csg", "--headless", "--size", "0x3"], "--size");
+    // --width/--height stay, but not together with --size.
+    let out = tracer(&[
+        "preview",
+        "csg",
+        "--headless",
+        "--size",
+        "8x8",
+        "--width",
+        "8",
+    ]);
+    assert_eq!(out.status.code(), Some(2), "{out:?}");
+}

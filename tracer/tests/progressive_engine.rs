@@ -337,6 +337,8 @@ fn headless_preview_writes_a_snapshot_per_level() {
         model: Some("mitchell-gm".into()),
         expr: None,
         domain: None,
+        size: None,
+        threads: None,
         width: 24,
         height: 16,
         lambda: None,

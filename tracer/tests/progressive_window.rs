@@ -51,6 +51,8 @@ fn window_refines_for_a_second_then_stops_and_writes_the_image() {
         model: Some("hypertexture-5".into()),
         expr: None,
         domain: None,
+        size: None,
+        threads: None,
         width: 200,
         height: 160,
         lambda: None,

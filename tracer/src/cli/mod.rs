@@ -6,7 +6,7 @@ pub mod preview;
 pub mod window;
 
 use crate::models::Model;
-use crate::render::Progress;
+use crate::render::{Progress, RenderStats};
 use crate::shape::Aabb;
 use glam::DVec3;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -80,6 +80,117 @@ pub fn parse_box(flag: &str, s: &str) -> Result<Aabb, String> {
     crate::shape::check_domain(&b).map_err(|e| format!("{flag} '{s}': {e}"))?;
     Ok(b)
 }
+
+/// Parses `WxH` for `flag`, each side within [`crate::camera::check_size`].
+pub fn parse_size(flag: &str, s: &str) -> Result<(u32, u32), String> {
+    let max = crate::camera::MAX_SIDE;
+    let err =
+        || format!("{flag} '{s}': expected WxH with positive integers up to {max}, e.g. 640x480");
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(err)?;
+    let w: u32 = w.trim().parse().map_err(|_| err())?;
+    let h: u32 = h.trim().parse().map_err(|_| err())?;
+    crate::camera::check_size(w, h).map_err(|_| err())?;
+    Ok((w, h))
+}
+
+/// Most worker threads `--threads` accepts.
+pub const MAX_THREADS: usize = 1024;
+
+/// Parses `--threads N`, `1 <= N <= MAX_THREADS`.
+pub fn parse_threads(s: &str) -> Result<usize, String> {
+    match s.trim().parse::<usize>() {
+        Ok(n) if (1..=MAX_THREADS).contains(&n) => Ok(n),
+        _ => Err(format!(
+            "--threads '{s}': expected a whole number of threads from 1 to {MAX_THREADS}"
+        )),
+    }
+}
+
+/// Builds rayon's global pool with `--threads` threads, if given (before any parallel
+/// work: the pool is built once per process).
+pub fn set_threads(threads: Option<&str>) -> Result<(), String> {
+    let Some(s) = threads else {
+        return Ok(());
+    };
+    let n = parse_threads(s)?;
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(n)
+        .build_global()
+        .map_err(|e| format!("--threads {n}: {e}"))
+}
+
+/// `s` as a JSON string.
+pub fn json_string(s: &str) -> String {
+    let mut out = String::with_capacity(s.len() + 2);
+    out.push('"');
+    for c in s.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            '\n' => out.push_str("\\n"),
+            '\r' => out.push_str("\\r"),
+            '\t' => out.push_str("\\t"),
+            c if (c as u32) < 0x20 => out.push_str(&format!("\\u{:04x}", c as u32)),
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+    out
+}
+
+/// The stats of a render as one JSON object on one line: every counter of
+/// [`RenderStats`] under its field name, `wall_s` for the wall time, and the render's
+/// model, size and arithmetic.
+pub fn stats_json(model: &str, width: u32, height: u32, arith: &str, s: &RenderStats) -> String {
+    // Destructured so that a new counter cannot be left out.
+    let RenderStats {
+        wall,
+        rays,
+        shadow_rays,
+        range_evals,
+        range_evals_hit,
+        cell_evals,
+        point_evals,
+        cells_culled,
+        pixels_culled,
+        pruned_empty,
+        hits,
+        unconfirmed,
+        cut,
+        tiles_done,
+        tiles_total,
+    } = *s;
+    let counters = [
+        ("rays", rays),
+        ("shadow_rays", shadow_rays),
+        ("range_evals", range_evals),
+        ("range_evals_hit", range_evals_hit),
+        ("cell_evals", cell_evals),
+        ("point_evals", point_evals),
+        ("cells_culled", cells_culled),
+        ("pixels_culled", pixels_culled),
+        ("pruned_empty", pruned_empty),
+        ("hits", hits),
+        ("unconfirmed", unconfirmed),
+        ("tiles_done", tiles_done),
+        ("tiles_total", tiles_total),
+    ];
+    let mut out = format!(
+        "{{\"model\": {}, \"width\": {width}, \"height\": {height}, \"arith\": {}, \"wall_s\": {:?}, \"cut\": {cut}",
+        json_string(model),
+        json_string(arith),
+        wall.as_secs_f64(),
+    );
+    for (k, v) in counters {
+        out.push_str(&format!(", \"{k}\": {v}"));
+    }
+    out.push_str(&format!(
+        ", \"mean_evals_per_hit\": {:?}}}",
+        s.mean_evals_per_hit()
+    ));
+    out
+}
+
 
 /// Parses a finite number above 0 for `flag`.
 pub fn parse_positive(flag: &str, s: &str) -> Result<f64, String> {

@@ -17,19 +17,26 @@ pub const AUTO_LIPSCHITZ_SPLITS: usize = 16;
 pub struct PreviewArgs {
     /// Model name (see `tracer list`); or give --expr.
     pub model: Option<String>,
-    /// A formula over x, y, z (f >= 0 inside), as for `tracer render --expr`.
+    /// A formula over x, y, z (f >= 0 inside), as for `tracer render --expr` (the
+    /// language is listed at the end of `--help`).
     #[arg(long, allow_hyphen_values = true)]
     pub expr: Option<String>,
     /// Domain box XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX (default: the model's; [-2, 2]^3 for a
     /// formula).
     #[arg(long, allow_hyphen_values = true)]
     pub domain: Option<String>,
-    /// Image width in pixels.
-    #[arg(long, default_value_t = 800)]
+    /// Image size WxH, as for `tracer render` (default 800x800).
+    #[arg(long, allow_hyphen_values = true)]
+    pub size: Option<String>,
+    /// Image width in pixels (or give --size).
+    #[arg(long, default_value_t = 800, conflicts_with = "size")]
     pub width: u32,
-    /// Image height in pixels.
-    #[arg(long, default_value_t = 800)]
+    /// Image height in pixels (or give --size).
+    #[arg(long, default_value_t = 800, conflicts_with = "size")]
     pub height: u32,
+    /// Worker threads (default: one per core).
+    #[arg(long, allow_hyphen_values = true)]
+    pub threads: Option<String>,
     /// Lipschitz bound of f over the domain (default: the model's own, or one computed
     /// from the range of its gradient over 16^3 sub-boxes).
     #[arg(long, allow_hyphen_values = true)]
@@ -67,6 +74,15 @@ pub struct PreviewArgs {
 }
 
 impl PreviewArgs {
+    /// The image size: `--size`, or `--width` and `--height` (800 each by default).
+    pub fn image_size(&self) -> Result<(u32, u32), String> {
+        match &self.size {
+            Some(s) => super::parse_size("--size", s),
+            // Checked by `Engine::new`.
+            None => Ok((self.width, self.height)),
+        }
+    }
+
     /// The model's name, or the formula, for a window title.
     pub fn title(&self) -> &str {
         self.model
@@ -107,20 +123,15 @@ pub fn options_for(args: &PreviewArgs, model: &Model) -> Result<Options, String>
 
 /// Runs `tracer preview`.
 pub fn run_preview(args: &PreviewArgs) -> Result<(), String> {
+    let (width, height) = args.image_size()?;
+    super::set_threads(args.threads.as_deref())?;
     let model = super::model_source(
         args.model.as_deref(),
         args.expr.as_deref(),
         args.domain.as_deref().map(|d| ("--domain", d)),
     )?;
     let opts = options_for(args, &model)?;
-    let engine = Engine::new(
-        model.clone(),
-        model.domain,
-        model.view,
-        args.width,
-        args.height,
-        opts,
-    )?;
+    let engine = Engine::new(model.clone(), model.domain, model.view, width, height, opts)?;
     if args.headless {
         run_headless(engine, args)
     } else {

@@ -4,17 +4,7 @@
 //! instructions that evaluates at points (`f64`) and over every [`arith_core::Range`],
 //! like the hand-written models (it implements [`Shape`]).
 //!
-//! The language:
-//! - numbers `2`, `0.36`, `.5`, `1e-3`, `2.5E+2`; variables `x`, `y`, `z`;
-//! - `+ - * /`, unary `-`, `^` with an integer exponent (`x^-2`, `2^3^2 = 2^9`;
-//!   right-associative and tighter than unary minus: `-x^2 = -(x^2)`);
-//! - functions `sqrt sqr exp ln sin cos abs` (one argument) and `min max` (two);
-//! - R-functions `&` (intersection), `\` (subtraction), `|` (union), looser than
-//!   arithmetic, `&` and `\` tighter than `|`, all left-associative:
-//!   `a | b & c = a | (b & c)`, `a \ b & c = (a \ b) & c`;
-//! - bindings `name = expr;` before the final expression, each usable by later ones:
-//!   `b = 0.36 - x^2; s = 0.7 - x^2 - y^2; b | s`;
-//! - whitespace and newlines are ignored, `#` starts a comment to the end of the line.
+//! The language is [`SYNTAX`] (also printed by `tracer render --help`).
 //!
 //! Decimal literals round to the nearest `f64`, exactly like the same literal in Rust
 //! source, so a formula and a hand-written model denote the same function. Constant
@@ -45,6 +35,34 @@ pub use tape::{CompileError, Instr, Op, Tape};
 
 use crate::shape::Shape;
 use arith_core::Real;
+
+/// The text of [`SYNTAX`], also the item's rustdoc.
+macro_rules! syntax_text {
+    () => {
+        r#"Formula language (f >= 0 inside, f < 0 outside):
+  numbers      2  0.36  .5  1e-3  2.5E+2
+  variables    x  y  z
+  arithmetic   + - * / and unary -; a product needs '*': 2*x, 2*(x+1)
+  powers       x^2, x^-2: integer exponents only, right-associative (2^3^2 = 2^9)
+               and tighter than unary minus (-x^2 = -(x^2))
+  functions    sqrt sqr exp ln sin cos abs (one argument), min max (two)
+  R-functions  a & b (intersection), a \ b (subtraction), a | b (union): looser than
+               arithmetic, & and \ tighter than |, all left-associative:
+               a | b & c = a | (b & c), a \ b & c = (a \ b) & c
+  bindings     name = expr; before the final expression, each usable by later ones:
+               b = 0.36 - x^2; s = 0.7 - x^2 - y^2; b | s
+  comments     # to the end of the line; whitespace and newlines are ignored
+  refused      a division by a constant 0 (1/0, x/(1-1)) and ln of a constant <= 0:
+               such a formula is infinite or NaN everywhere
+"#
+    };
+}
+
+/// The formula language in brief: what `tracer render --help` (and `range`, `preview`)
+/// print after the options, and the README's "Formula language".
+#[doc = ""]
+#[doc = concat!("```text\n", syntax_text!(), "```")]
+pub const SYNTAX: &str = syntax_text!();
 
 /// Parses and compiles a formula.
 pub fn parse(src: &str) -> Result<Tape, ParseError> {

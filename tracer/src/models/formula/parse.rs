@@ -16,6 +16,7 @@
 //! ```
 
 use super::ast::{BinOp, Binding, Expr, Func, Program, Var};
+use super::tape::folded_const;
 use std::collections::HashMap;
 use std::fmt;
 
@@ -83,6 +84,9 @@ impl fmt::Display for ParseError {
 }
 
 impl std::error::Error for ParseError {}
+
+/// What a number followed by a name, a number or `(` is told: `17x`, `20(x)`.
+const PRODUCT_HINT: &str = "a product needs '*', as in 2*x";
 
 /// Deepest nesting of parentheses, calls and unary minus signs accepted.
 pub const MAX_NESTING: usize = 200;
@@ -170,7 +174,7 @@ fn lex(chars: &[char]) -> Result<Vec<Token>, ParseError> {
                 return Err(ParseError::new(
                     chars,
                     start,
-                    format!("invalid number '{text}' (a product needs '*', as in 2*x)"),
+                    format!("invalid number '{text}' ({PRODUCT_HINT})"),
                 ));
             }
             let text: String = chars[start..i].iter().collect();
@@ -237,6 +241,8 @@ struct Parser<'a> {
     nesting: usize,
     names: Vec<String>,
     index: HashMap<String, usize>,
+    /// The constant each binding folds to, if it does (see [`folded_const`]).
+    consts: Vec<Option<f64>>,
 }
 
 /// A subtree and its depth.
@@ -265,6 +271,19 @@ impl Parser<'_> {
     fn expected<T>(&self, what: &str) -> Result<T, ParseError> {
         let t = self.peek();
         self.err_at(t.pos, format!("expected {what} but found {}", describe(t)))
+    }
+    /// [`Parser::expected`] where an operator could come next: an operand right after
+    /// a complete one (`20(x)`, `x y`) is told that a product needs '*'.
+    fn expected_operator<T>(&self, what: &str) -> Result<T, ParseError> {
+        let t = self.peek();
+        let hint = match t.tok {
+            Tok::Sym('(') | Tok::Name(_) | Tok::Num(..) => format!(" ({PRODUCT_HINT})"),
+            _ => String::new(),
+        };
+        self.err_at(
+            t.pos,
+            format!("expected {what} but found {}{hint}", describe(t)),
+        )
     }
     fn enter(&mut self) -> Result<(), ParseError> {
         self.nesting += 1;
@@ -313,6 +332,7 @@ impl Parser<'_> {
             self.bump();
             self.index.insert(name.clone(), self.names.len());
             self.names.push(name.clone());
+            self.consts.push(folded_const(&expr, &self.consts));
             bindings.push(Binding { name, expr });
             if self.peek().tok == Tok::End {
                 return self.expected("the final expression after the bindings");
@@ -330,7 +350,7 @@ impl Parser<'_> {
             }
         }
         if self.peek().tok != Tok::End {
-            return self.expected("an operator or end of input");
+            return self.expected_operator("an operator or end of input");
         }
         Ok(Program { bindings, body })
     }
@@ -385,6 +405,14 @@ impl Parser<'_> {
             };
             let pos = self.bump().pos;
             let (r, rd) = self.unary()?;
+            // A constant divisor 0 makes the formula infinite or NaN everywhere: its
+            // ranges are the whole line and every ray would report a root.
+            if op == BinOp::Div && folded_const(&r, &self.consts) == Some(0.0) {
+                return self.err_at(
+                    pos,
+                    "division by zero: the divisor is the constant 0 (after folding)",
+                );
+            }
             (e, d) = self.node(Expr::bin(op, e, r), 1 + d.max(rd), pos)?;
         }
     }
@@ -500,7 +528,8 @@ impl Parser<'_> {
                 let (e, d) = self.union()?;
                 if !self.is_sym(')') {
                     let col = ParseError::new(self.chars, t.pos, "").column;
-                    return self.expected(&format!("')' to close the '(' at column {col}"));
+                    return self
+                        .expected_operator(&format!("')' to close the '(' at column {col}"));
                 }
                 self.bump();
                 Ok((e, d))
@@ -566,7 +595,7 @@ impl Parser<'_> {
         }
         if !self.is_sym(')') {
             let col = ParseError::new(self.chars, open, "").column;
-            return self.expected(&format!("',' or ')' to close the '(' at column {col}"));
+            return self.expected_operator(&format!("',' or ')' to close the '(' at column {col}"));
         }
         self.bump();
         if args.len() != f.arity() {
@@ -580,6 +609,17 @@ impl Parser<'_> {
                     args.len()
                 ),
             );
+        }
+        // ln of a constant <= 0 is -inf or NaN everywhere (see the division above).
+        if f == Func::Ln {
+            if let Some(c) = args.first().and_then(|a| folded_const(a, &self.consts)) {
+                if c <= 0.0 {
+                    return self.err_at(
+                        pos,
+                        format!("ln of the constant {c:?}: ln needs a positive argument"),
+                    );
+                }
+            }
         }
         self.node(Expr::Call(f, args), depth + 1, pos)
     }
@@ -623,6 +663,7 @@ pub fn parse_program(src: &str) -> Result<Program, ParseError> {
         nesting: 0,
         names: Vec::new(),
         index: HashMap::new(),
+        consts: Vec::new(),
     };
     p.program()
 }

@@ -377,6 +377,33 @@ impl Builder {
     }
 }
 
+/// The value of `e` if compilation folds it to a constant (the same rules as
+/// [`Tape::compile`]), `binds` holding the constant value, if any, of each binding.
+pub(super) fn folded_const(e: &Expr, binds: &[Option<f64>]) -> Option<f64> {
+    match e {
+        Expr::Num(c) => Some(*c),
+        Expr::Var(_) => None,
+        Expr::Ref(i) => binds.get(*i).copied().flatten(),
+        Expr::Neg(a) => folded_const(a, binds).map(|c| -c),
+        Expr::Pow(a, n) => exact_powi(folded_const(a, binds)?, *n),
+        Expr::Call(f, args) => {
+            let v = folded_const(args.first()?, binds)?;
+            match f {
+                Func::Min => Some(Real::min(&v, &folded_const(args.get(1)?, binds)?)),
+                Func::Max => Some(Real::max(&v, &folded_const(args.get(1)?, binds)?)),
+                Func::Sqr => exact_powi(v, 2),
+                Func::Sqrt => fold_unary(Op::Sqrt, v),
+                Func::Exp => fold_unary(Op::Exp, v),
+                Func::Ln => fold_unary(Op::Ln, v),
+                Func::Sin => fold_unary(Op::Sin, v),
+                Func::Cos => fold_unary(Op::Cos, v),
+                Func::Abs => fold_unary(Op::Abs, v),
+            }
+        }
+        Expr::Bin(op, a, b) => fold_bin(*op, folded_const(a, binds)?, folded_const(b, binds)?),
+    }
+}
+
 /// `a + b` if the `f64` sum is exact and finite.
 fn exact_add(a: f64, b: f64) -> Option<f64> {
     let (s, e) = two_sum(a, b);
