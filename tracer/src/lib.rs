@@ -5,10 +5,11 @@
 //! - [`shape`] and [`camera`]: the [`shape::Shape`] trait (a function written once,
 //!   generic over [`arith_core::Real`]), boxes, views and rays;
 //! - [`models`]: the model sources (the papers' models, formulas) and their one registry;
-//! - [`search`]: Algorithm 1 ([`search::ray`]), Algorithm 2 ([`search::cull`]) and the
-//!   Lipschitz casters ([`search::lipschitz`]);
+//! - [`search`]: Algorithm 1 ([`search::ray`]), Algorithm 2 ([`search::cull`]), the
+//!   Lipschitz casters ([`search::lipschitz`]) and Lipschitz cone tracing
+//!   ([`search::cone`]);
 //! - renderers: the reliable tracer ([`render`], with shading and output files) and the
-//!   progressive previewer ([`progressive`], cone tracing);
+//!   progressive previewer ([`progressive`], a queue of cones);
 //! - the `tracer` binary (feature `cli`) on top; [`interrupt`] stops long work on Ctrl-C.
 //!
 //! ## Example: render a model of your own

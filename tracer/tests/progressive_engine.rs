@@ -5,6 +5,7 @@ use tracer::cli::preview::{run_preview, PreviewArgs};
 use tracer::models::progressive::GmModel;
 use tracer::models::Model;
 use tracer::progressive::*;
+use tracer::search::cone::{trace_cone, ConeEnd};
 use tracer::search::lipschitz::Bounded;
 use tracer::shape::{Aabb, Shape, View};
 

@@ -3,109 +3,27 @@
 //! size, finished per pixel by the overshooting Lipschitz ray caster, with regions of
 //! interest, a live window and a headless mode.
 //!
-//! - [`engine`]: the renderer ([`Engine`]), cone tracing ([`trace_cone`]), the
-//!   conventional ray casters over a whole image ([`raycast`]).
+//! - [`engine`]: the renderer ([`Engine`]): the sample queue, child cones, regions of
+//!   interest; the cones themselves are traced by [`crate::search::cone`];
+//! - `plan.rs`: the prime-factor subdivision of eq. (7) ([`Plan`]);
+//! - `image.rs`: the lock-free image buffer shared with the display ([`SharedImage`]);
+//! - `raycast.rs`: the conventional ray casters over a whole image ([`raycast`]), the
+//!   previewer's baseline and reference;
+//! - `bench.rs`: the benchmark rows of the paper's Table 1 and Fig. 9 ([`bench_table`]).
+//!
+//! Only [`engine`] is a public module; the others' items are re-exported here (a
+//! public `image` module would shadow the `image` crate in `use tracer::progressive::*`).
 //!
 //! The live window and the `tracer preview` command are in `crate::cli` (feature `cli`).
 
+mod bench;
 pub mod engine;
+mod image;
+mod plan;
+mod raycast;
 
-pub use engine::{
-    prime_factors_desc, raycast, trace_cone, trace_cone_local, Caster, ChildStart, ConeEnd, Engine,
-    Options, Plan, Rect, SharedImage, Stats, Step,
-};
-
-use crate::models::Model;
-use std::path::Path;
-use std::time::Instant;
-
-/// Writes the shared image as a PNG.
-pub fn write_png(img: &SharedImage, path: &Path) -> Result<(), String> {
-    if let Some(dir) = path.parent() {
-        if !dir.as_os_str().is_empty() {
-            std::fs::create_dir_all(dir)
-                .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
-        }
-    }
-    img.to_rgb()
-        .save(path)
-        .map_err(|e| format!("cannot write {}: {e}", path.display()))
-}
-
-/// One row of the previewer benchmark (the paper's Table 1 and Fig. 9).
-#[derive(Clone, Debug, PartialEq)]
-pub struct BenchRow {
-    pub model: String,
-    /// `previewer`, `previewer-local`, `overshoot-rc`, `standard-rc`, `local-rc`.
-    pub method: &'static str,
-    /// Wall time to the final image, seconds.
-    pub seconds: f64,
-    /// Point evaluations of `f` (tracing only; normals excluded, as for the ray casters).
-    pub evals: u64,
-    /// Range evaluations (`Dual<Interval>`) for local Lipschitz bounds.
-    pub range_evals: u64,
-    /// Previewer only: wall time until every pixel was painted once (first full frame).
-    pub first_frame_s: Option<f64>,
-    /// Previewer only: samples processed.
-    pub iterations: Option<u64>,
-}
-
-/// Times the previewer (global and local Lipschitz bounds) and the overshooting,
-/// standard and local ray casters on each model at `width x height`, with each model's
-/// own bound and precision `1e-4`. The ray casters shade nothing; the previewer's times
-/// include its shading of every sample (its extra cost, as in the paper).
-pub fn bench_table(models: &[Model], width: u32, height: u32) -> Result<Vec<BenchRow>, String> {
-    let mut rows = Vec::new();
-    for m in models {
-        let lambda = m
-            .lipschitz
-            .ok_or_else(|| format!("model '{}' has no Lipschitz bound", m.name))?;
-        for (method, local) in [("previewer", false), ("previewer-local", true)] {
-            let mut opts = Options::new(lambda);
-            opts.local = local;
-            let start = Instant::now();
-            let mut e = Engine::new(m.clone(), m.domain, m.view, width, height, opts)?;
-            let mut first = None;
-            while e.step() != Step::Done {
-                if first.is_none() && e.fully_painted() {
-                    first = Some(start.elapsed().as_secs_f64());
-                }
-            }
-            let s = e.stats();
-            rows.push(BenchRow {
-                model: m.name.clone(),
-                method,
-                seconds: start.elapsed().as_secs_f64(),
-                evals: s.evals,
-                range_evals: s.range_evals,
-                first_frame_s: first,
-                iterations: Some(s.iterations),
-            });
-        }
-        let eps = Options::new(lambda).eps;
-        for (method, caster) in [
-            (
-                "overshoot-rc",
-                Caster::Overshoot(crate::search::lipschitz::DEFAULT_OVERSHOOT),
-            ),
-            ("standard-rc", Caster::Standard),
-            (
-                "local-rc",
-                Caster::Local(crate::search::lipschitz::DEFAULT_OVERSHOOT),
-            ),
-        ] {
-            let start = Instant::now();
-            let (_, c) = raycast(m, m.domain, m.view, width, height, lambda, eps, caster)?;
-            rows.push(BenchRow {
-                model: m.name.clone(),
-                method,
-                seconds: start.elapsed().as_secs_f64(),
-                evals: c.evals,
-                range_evals: c.range_evals,
-                first_frame_s: None,
-                iterations: None,
-            });
-        }
-    }
-    Ok(rows)
-}
+pub use bench::{bench_table, BenchRow};
+pub use engine::{ChildStart, Engine, Options, Rect, Stats, Step};
+pub use image::{write_png, SharedImage};
+pub use plan::{prime_factors_desc, Plan};
+pub use raycast::{raycast, Caster};

@@ -2,8 +2,10 @@
 //! range or point value at a time, so scalar, packed and (later) GPU drivers share them.
 //! [`ray`] is the revised-affine paper's Algorithm 1 (range test, dichotomy, argument
 //! pruning), [`cull`] its Algorithm 2 (cell culling in frustum form), [`lipschitz`] the
-//! progressive-refinement paper's Lipschitz ray casters and automatic Lipschitz bounds.
+//! progressive-refinement paper's Lipschitz ray casters and automatic Lipschitz bounds,
+//! [`cone`] that paper's Lipschitz cone tracing (eqs. 3-6, Fig. 3).
 
+pub mod cone;
 pub mod cull;
 pub mod lipschitz;
 pub mod ray;
