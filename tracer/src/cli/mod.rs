@@ -191,7 +191,6 @@ pub fn stats_json(model: &str, width: u32, height: u32, arith: &str, s: &RenderS
     out
 }
 
-
 /// Parses a finite number above 0 for `flag`.
 pub fn parse_positive(flag: &str, s: &str) -> Result<f64, String> {
     match s.trim().parse::<f64>() {

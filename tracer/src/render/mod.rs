@@ -121,12 +121,13 @@ pub struct RenderStats {
     /// Segments proved root-free by argument pruning alone.
     pub pruned_empty: u64,
     pub hits: u64,
-    /// Hit pixels whose root no sign change confirms: `f` at the root depth and at that
-    /// depth plus and minus the precision has one sign (or is NaN). The search reports
-    /// such roots where a segment at the precision still has a range holding 0: tangent
-    /// roots, features thinner than the precision, silhouettes, or a function whose
-    /// ranges hold 0 everywhere (infinite or NaN values). Three point evaluations per
-    /// hit pixel, not counted in `point_evals`.
+    /// Hit pixels whose root no sign change confirms: the six samples of `f` at the
+    /// normal's step around the root (which the normal is computed from, so the check
+    /// costs no evaluation) have one strict sign or are NaN; a sign change among them
+    /// proves a surface point within that step. The search reports unconfirmed roots
+    /// where a segment at the precision still has a range holding 0: tangent roots,
+    /// features thinner than the precision, or a function whose ranges hold 0
+    /// everywhere (infinite or NaN values).
     pub unconfirmed: u64,
     /// Whether the render stopped early (deadline or cancel): skipped tiles are background.
     pub cut: bool,
@@ -392,12 +393,12 @@ fn render_tile<A: Arithmetic, S: Shape + ?Sized>(
         st.hits += 1;
         st.range_evals_hit += rs.range_evals;
         depth[k] = t as f32;
-        if !sign_change_near(shape, o, d, t, params.precision.at(t)) {
-            st.unconfirmed += 1;
-        }
         let p = o + d * t;
         let step = params.precision.at(t).max(scale * 1e-7);
-        let n = shade::normal(shape, p, step);
+        let (n, confirmed) = shade::normal_and_sign_change(shape, p, step);
+        if !confirmed {
+            st.unconfirmed += 1;
+        }
         st.point_evals += 6;
         let mut in_shadow = false;
         if opts.shadows {
@@ -459,19 +460,6 @@ fn search_of(
         step,
         t1,
     })
-}
-
-/// Whether `f` changes sign (or is 0) between the depths `t - eps`, `t` and `t + eps`
-/// along the ray `o + t d`: what confirms a reported root (see
-/// [`RenderStats::unconfirmed`]).
-fn sign_change_near<S: Shape + ?Sized>(shape: &S, o: DVec3, d: DVec3, t: f64, eps: f64) -> bool {
-    let f = |s: f64| -> f64 {
-        let p = o + d * s;
-        shape.eval(p.x, p.y, p.z)
-    };
-    let opposite = |a: f64, b: f64| (a <= 0.0 && b >= 0.0) || (a >= 0.0 && b <= 0.0);
-    let m = f(t);
-    opposite(f(t - eps), m) || opposite(m, f(t + eps))
 }
 
 /// Whether the segment from just off the surface at `p` towards the light holds a root.

@@ -56,19 +56,37 @@ impl Default for Material {
 /// the gradient by central differences of step `h`. Where the gradient vanishes or is
 /// not finite (a singular point, a tangent double root), returns `None`.
 pub fn normal<S: Shape + ?Sized>(shape: &S, p: DVec3, h: f64) -> Option<DVec3> {
+    normal_and_sign_change(shape, p, h).0
+}
+
+/// [`normal`], and whether its six samples `f(p ± h e_k)` hold a sign change (some
+/// `<= 0` and some `>= 0`, none NaN): then `f` has a root within `h` of `p` on an axis
+/// segment through it, since `f` is continuous.
+pub fn normal_and_sign_change<S: Shape + ?Sized>(
+    shape: &S,
+    p: DVec3,
+    h: f64,
+) -> (Option<DVec3>, bool) {
     let f = |q: DVec3| shape.eval::<f64>(q.x, q.y, q.z);
-    let g = DVec3::new(
-        f(p + DVec3::X * h) - f(p - DVec3::X * h),
-        f(p + DVec3::Y * h) - f(p - DVec3::Y * h),
-        f(p + DVec3::Z * h) - f(p - DVec3::Z * h),
-    );
+    let s = [
+        f(p + DVec3::X * h),
+        f(p - DVec3::X * h),
+        f(p + DVec3::Y * h),
+        f(p - DVec3::Y * h),
+        f(p + DVec3::Z * h),
+        f(p - DVec3::Z * h),
+    ];
+    let g = DVec3::new(s[0] - s[1], s[2] - s[3], s[4] - s[5]);
+    let changes =
+        s.iter().any(|&v| v <= 0.0) && s.iter().any(|&v| v >= 0.0) && !s.iter().any(|v| v.is_nan());
     let n = -g;
     let l = n.length();
-    if l.is_finite() && l > 0.0 {
+    let n = if l.is_finite() && l > 0.0 {
         Some(n / l)
     } else {
         None
-    }
+    };
+    (n, changes)
 }
 
 /// Shades a hit: `normal` the surface normal (either orientation; it is flipped to face
