@@ -14,7 +14,7 @@ use tracer::camera::Camera;
 use tracer::models::Model;
 use tracer::models::PaperModel;
 use tracer::render::RenderOptions;
-use tracer::search::ray::{clip, first_root, RayParams, RayStats};
+use tracer::search::ray::{clip, first_root, RayParams, RayStats, Start};
 use tracer::shape::Shape;
 
 fn cell_of(m: &Model) -> [(f64, f64); 3] {
@@ -68,7 +68,7 @@ fn one_ray(c: &mut Criterion) {
                 b.iter(|| {
                     let mut st = RayStats::default();
                     tracer::with_arith!(kind, A => first_root::<A, PaperModel>(
-                        black_box(&pm), o, d, t0, t1, &params, &mut st
+                        black_box(&pm), o, d, Start::whole(t0, t1), &params, &mut st
                     ))
                 })
             });

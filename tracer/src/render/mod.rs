@@ -10,9 +10,9 @@ pub mod shade;
 use crate::arith::ArithKind;
 use crate::camera::Camera;
 use crate::models::Model;
-use crate::search::cull::{CullStats, Culler, Depths};
+use crate::search::cull::{CullStats, Culler};
 use crate::search::ray::{
-    clip, clip_with, first_root, first_roots, Precision, RayJob, RayParams, RayStats, Search,
+    clip, clip_with, first_root, first_roots, Precision, RayJob, RayParams, RayStats, Start,
 };
 use crate::shape::{check_domain, Aabb, Shape, View};
 use arith_core::Arithmetic;
@@ -343,26 +343,15 @@ fn render_tile<A: Arithmetic, S: Shape + ?Sized>(
     let mut st = RenderStats::default();
     // Rays are collected first (pixel, culling's depths), set up four at a time
     // ([`Camera::rays4`]), then searched four at a time ([`first_roots`]).
-    let mut pending: Vec<(u32, u32, Depths)> = Vec::with_capacity(n);
-    let mut trace = |i: u32, j: u32, depths: Depths| pending.push((i, j, depths));
+    let mut pending: Vec<(u32, u32, Start)> = Vec::with_capacity(n);
+    let mut trace = |i: u32, j: u32, depths: Start| pending.push((i, j, depths));
     let mut cs = CullStats::default();
     if opts.culling {
         culler.traverse::<A, S, _>(shape, rect, &mut cs, &mut trace);
     } else {
         for j in j0..j1 {
             for i in i0..i1 {
-                let (s0, s1) = (f64::NEG_INFINITY, f64::INFINITY);
-                trace(
-                    i,
-                    j,
-                    Depths {
-                        s0,
-                        split: s1,
-                        resume: s1,
-                        step: 0.0,
-                        s1,
-                    },
-                );
+                trace(i, j, Start::whole(f64::NEG_INFINITY, f64::INFINITY));
             }
         }
     }
@@ -376,8 +365,8 @@ fn render_tile<A: Arithmetic, S: Shape + ?Sized>(
         }));
         for (&(i, j, depths), &(d, inv, c, ic)) in chunk.iter().zip(&set) {
             let o = cam.eye;
-            if let Some(seg) = search_of(o, d, inv, c, ic, depths, &opts.domain) {
-                jobs.push(RayJob { o, d, seg });
+            if let Some(start) = start_of(o, d, inv, c, ic, depths, &opts.domain) {
+                jobs.push(RayJob { o, d, start });
                 pixel_of.push((j - j0) as usize * tw + (i - i0) as usize);
             }
         }
@@ -418,28 +407,28 @@ fn render_tile<A: Arithmetic, S: Shape + ?Sized>(
 }
 
 /// Where to search the ray `o + t d` (`inv = d.recip()`, `c = d . forward`,
-/// `ic = 1 / c`): its piece inside the domain, narrowed to what culling left of it.
-/// `None` when nothing is left.
+/// `ic = 1 / c`): its piece inside the domain, narrowed to what culling left of it
+/// (`depths`, in depth along `forward`). `None` when nothing is left.
 #[allow(clippy::too_many_arguments)]
-fn search_of(
+fn start_of(
     o: DVec3,
     d: DVec3,
     inv: DVec3,
     c: f64,
     ic: f64,
-    depths: Depths,
+    depths: Start,
     domain: &Aabb,
-) -> Option<Search> {
+) -> Option<Start> {
     let (t0, t1) = clip_with(o, d, inv, domain, 0.0)?;
     // Culling proved the ray root-free outside the depths `[s0, s1]` and inside
     // `(split, resume)` (margin included); depth is `t (d . forward)`. Widened (the
     // gap narrowed) by far more than the rounding.
-    let Depths {
-        s0,
+    let Start {
+        t0: s0,
         split,
         resume,
         step,
-        s1,
+        t1: s1,
     } = depths;
     let (t0, t1, split, resume, step) = if c > 0.5 && s0.is_finite() && s1.is_finite() {
         let (a, b) = (s0 * ic, s1 * ic);
@@ -453,7 +442,7 @@ fn search_of(
     if t0 > t1 {
         return None;
     }
-    Some(Search {
+    Some(Start {
         t0,
         split,
         resume,
@@ -497,7 +486,7 @@ fn shadowed<A: Arithmetic, S: Shape + ?Sized>(
         },
         pruning: params.pruning,
     };
-    let hit = first_root::<A, S>(shape, start, l, t0, t1, &sp, &mut rs).is_some();
+    let hit = first_root::<A, S>(shape, start, l, Start::whole(t0, t1), &sp, &mut rs).is_some();
     st.range_evals += rs.range_evals;
     st.point_evals += rs.point_evals;
     hit

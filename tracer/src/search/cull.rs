@@ -29,7 +29,7 @@
 //! is the same frustum-segment box, for that depth range only), and the slices proved
 //! root-free are cut away up to the first that is not; the cell is dropped when all of
 //! them are, otherwise its children inherit the narrowed depth range and every traced ray
-//! is searched only from that first slice on, and that slice first (see [`Depths`]).
+//! is searched only from that first slice on, and that slice first (see [`Culler::traverse`]).
 //! A thick box around the whole depth range holds 0 for most cells near a surface; thin
 //! slices prove the empty space in front of it for the whole bundle at once, which each
 //! ray would otherwise prove on its own.
@@ -42,7 +42,7 @@
 //! the precision and shows a sign change.
 
 use crate::camera::Camera;
-use crate::search::ray::Pruner;
+use crate::search::ray::{Pruner, Start};
 use crate::shape::{Aabb, Shape};
 use arith_core::pack::{Pack, LANES};
 use arith_core::round::{up_finite, ETA, U};
@@ -74,26 +74,6 @@ impl std::ops::AddAssign for CullStats {
 /// (measured with the frustum forms, decocube and Mitchell at 1024²: 4 and 64 both
 /// 15-40% slower than 16).
 pub const MIN_CELL_PIXELS: u32 = 16;
-
-/// What culling hands to a traced ray, as depths along `forward` (margin included): the
-/// ray is proved root-free outside `[s0, s1]` and inside `(split, resume)`, and its first
-/// root is most likely before `split` (so the ray searches `[s0, split]` first: a ray's
-/// range over the whole `[s0, s1]` spans both sides of a closed surface and needs many
-/// halvings before it says anything). From its cell's form (see the module doc)
-/// `[s0, split]` is where the ray's roots in the cell's slice can be, or, without one,
-/// the first two slices its cell could not prove root-free.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Depths {
-    pub s0: f64,
-    pub split: f64,
-    /// `(split, resume)` is proved root-free for this ray (`resume == split`: nothing
-    /// more than `s0` is known).
-    pub resume: f64,
-    /// The first piece of depth searched after `[s0, split]` is at least this deep (`0`:
-    /// no hint), see [`crate::search::ray::Search`].
-    pub step: f64,
-    pub s1: f64,
-}
 
 /// A cell's bundle of ray directions (un-normalised, see [`Camera::raw_dir`]).
 #[derive(Clone, Copy, Debug)]
@@ -294,8 +274,14 @@ impl Culler {
         (s0 <= s1).then_some((b, (s0, s1)))
     }
 
-    /// Visits the cell `[i0, i1) x [j0, j1)`: calls `trace(i, j, depths)` for every pixel
-    /// whose ray must be traced, skipping the pixels of dropped cells; see [`Depths`].
+    /// Visits the cell `[i0, i1) x [j0, j1)`: calls `trace(i, j, start)` for every pixel
+    /// whose ray must be traced, skipping the pixels of dropped cells. `start` is in
+    /// depth along `forward` (margin included): the ray is proved root-free outside
+    /// `[t0, t1]` and inside `(split, resume)`, and its first root is most likely before
+    /// `split` (a ray's range over the whole `[t0, t1]` spans both sides of a closed
+    /// surface and needs many halvings before it says anything). From its cell's form
+    /// (see the module doc) `[t0, split]` is where the ray's roots in the cell's slice
+    /// can be, or, without one, the first two slices its cell could not prove root-free.
     ///
     /// Cells waiting for their narrowing are kept on a stack, and up to four are narrowed
     /// at once: each step evaluates the slices asked for by four narrowings in one
@@ -303,7 +289,7 @@ impl Culler {
     /// range; one by one for a shape that does not [pack](Shape::packs)), and a finished narrowing's slot takes the next cell. A cell depends only on
     /// its parent's narrowing, so the cells dropped and the depths handed to rays are
     /// those of a depth-first visit; only the order in which rays are handed out differs.
-    pub fn traverse<A: Arithmetic, S: Shape + ?Sized, F: FnMut(u32, u32, Depths)>(
+    pub fn traverse<A: Arithmetic, S: Shape + ?Sized, F: FnMut(u32, u32, Start)>(
         &self,
         shape: &S,
         rect: (u32, u32, u32, u32),
@@ -311,12 +297,7 @@ impl Culler {
         trace: &mut F,
     ) {
         let s = self.s_range;
-        let start = Start {
-            s0: s.0,
-            split: s.1,
-            resume: s.1,
-            step: 0.0,
-        };
+        let start = Start::whole(s.0, s.1);
         struct Slot<R> {
             cell: Cell,
             bundle: Bundle,
@@ -391,7 +372,7 @@ impl Culler {
     /// A cell whose narrowing ended with `res` (`None`: dropped): its four children are
     /// queued, those too small to be tested hand their rays out at once.
     #[allow(clippy::too_many_arguments)]
-    fn narrowed<F: FnMut(u32, u32, Depths)>(
+    fn narrowed<F: FnMut(u32, u32, Start)>(
         &self,
         cell: Cell,
         bundle: &Bundle,
@@ -410,10 +391,11 @@ impl Culler {
         let parent = fit.as_ref().map(|f| (bundle, f));
         let s = (first, cell.s_range.1);
         let plain = Start {
-            s0: first,
+            t0: first,
             split: first_end,
             resume: first_end,
             step: 0.0,
+            t1: s.1,
         };
         let (im, jm) = (i0 + w.div_ceil(2), j0 + h.div_ceil(2));
         for (a0, a1) in [(i0, im), (im, i1)] {
@@ -432,7 +414,7 @@ impl Culler {
     /// Queues the cell `rect` for its narrowing, or, when it is too small to be tested,
     /// hands out its rays (each started from its own share of the parent's form where
     /// there is one).
-    fn enqueue<F: FnMut(u32, u32, Depths)>(
+    fn enqueue<F: FnMut(u32, u32, Start)>(
         &self,
         rect: (u32, u32, u32, u32),
         s_range: (f64, f64),
@@ -461,10 +443,11 @@ impl Culler {
         // the decocube, 10% on the noisy sphere, CSG within 1%.
         let split = (start.split + (start.split - s_range.0)).min(s_range.1);
         let plain = Start {
-            s0: s_range.0,
+            t0: s_range.0,
             split,
             resume: split,
             step: 0.0,
+            t1: s_range.1,
         };
         for j in j0..j1 {
             for i in i0..i1 {
@@ -476,12 +459,12 @@ impl Culler {
                 trace(
                     i,
                     j,
-                    Depths {
-                        s0: st.s0 - self.margin,
+                    Start {
+                        t0: st.t0 - self.margin,
                         split,
                         resume: (st.resume - self.margin).max(split),
                         step: st.step,
-                        s1: s_range.1 + self.margin,
+                        t1: s_range.1 + self.margin,
                     },
                 );
             }
@@ -552,10 +535,11 @@ impl Culler {
                 let s0 = t1.max(s_range.0);
                 let split = (s0 + step).min(s_range.1);
                 Start {
-                    s0,
+                    t0: s0,
                     split,
                     resume: split,
                     step,
+                    t1: s_range.1,
                 }
             }
             // The form says next to nothing about these rays (R-function models, whose
@@ -564,29 +548,19 @@ impl Culler {
             Some((a, c)) if c - a > 0.9 * (t1 - t0) => return None,
             // Roots in the slice lie in `[a, c]`: none in `(c, t1]` either.
             Some((a, c)) => Start {
-                s0: a.max(s_range.0),
+                t0: a.max(s_range.0),
                 split: c.min(s_range.1),
                 resume: t1.min(s_range.1),
                 step,
+                t1: s_range.1,
             },
         };
-        (start.s0 <= start.split).then_some(start)
+        (start.t0 <= start.split).then_some(start)
     }
 }
 
-/// Where a search in depth starts, as in [`Depths`] (without its margins): at `s0`, the
-/// piece `[s0, split]` first, then on from `resume` (`(split, resume)` proved root-free)
-/// in pieces at least `step` deep.
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct Start {
-    s0: f64,
-    split: f64,
-    resume: f64,
-    step: f64,
-}
-
 /// A cell waiting for its narrowing: its pixels, the depths left to it and where its
-/// narrowing starts.
+/// narrowing starts (in depth, without the margins handed to rays).
 #[derive(Clone, Copy, Debug)]
 struct Cell {
     rect: (u32, u32, u32, u32),
@@ -642,8 +616,8 @@ type Narrowed = Option<((f64, f64), Option<Fit>)>;
 
 impl<R: Range> Narrowing<R> {
     fn new(width: f64, s: (f64, f64), start: Start) -> Self {
-        // Nothing before `start.s0` (the parent proved it).
-        let s = (start.s0.max(s.0), s.1);
+        // Nothing before `start.t0` (the parent proved it).
+        let s = (start.t0.max(s.0), s.1);
         let mut n = Narrowing {
             width,
             s,
@@ -836,7 +810,7 @@ mod tests {
                     kind: ArithKind,
                     shape: &S,
                     rect: (u32, u32, u32, u32),
-                ) -> (Vec<(u32, u32, Depths)>, CullStats) {
+                ) -> (Vec<(u32, u32, Start)>, CullStats) {
                     let mut rays = Vec::new();
                     let mut stats = CullStats::default();
                     let mut trace = |i, j, d| rays.push((j, i, d));
@@ -869,9 +843,9 @@ mod tests {
                 let mut got = vec![None; (w * h) as usize];
                 let mut stats = CullStats::default();
                 let mut gaps = 0;
-                let mut trace = |i: u32, j: u32, s: Depths| {
-                    assert!(s.s0 <= s.split && s.split <= s.resume, "{s:?}");
-                    assert!(s.resume <= s.s1 && s.step >= 0.0, "{s:?}");
+                let mut trace = |i: u32, j: u32, s: Start| {
+                    assert!(s.t0 <= s.split && s.split <= s.resume, "{s:?}");
+                    assert!(s.resume <= s.t1 && s.step >= 0.0, "{s:?}");
                     gaps += usize::from(s.resume > s.split);
                     got[(j * w + i) as usize] = Some(s);
                 };
@@ -899,10 +873,10 @@ mod tests {
                         for t in [-b - disc.sqrt(), -b + disc.sqrt()] {
                             let s = t * f;
                             assert!(
-                                g.s0 <= s && s <= g.s1,
+                                g.t0 <= s && s <= g.t1,
                                 "{tag}: root depth {s} not in [{}, {}]",
-                                g.s0,
-                                g.s1
+                                g.t0,
+                                g.t1
                             );
                             assert!(
                                 !(g.split < s && s < g.resume),

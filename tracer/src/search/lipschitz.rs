@@ -15,6 +15,7 @@ use glam::DVec3;
 pub const DEFAULT_OVERSHOOT: f64 = 1.46;
 
 /// The parameter interval `[t0, t1]` where the ray `o + t d` (`t >= 0`) is inside `b`.
+/// Not widened like [`crate::search::ray::clip`]: that would move every Lipschitz sample.
 pub fn clip_to_box(o: DVec3, d: DVec3, b: &Aabb) -> Option<(f64, f64)> {
     let mut t0 = 0.0f64;
     let mut t1 = f64::INFINITY;

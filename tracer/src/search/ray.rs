@@ -30,7 +30,7 @@
 use crate::shape::{Aabb, Shape};
 use arith_core::pack::{Pack, LANES};
 use arith_core::round::ETA;
-use arith_core::{Arithmetic, Linear, Range};
+use arith_core::{Arithmetic, Range};
 use glam::DVec3;
 
 /// When to stop subdividing: a segment `[t0, t1]` is resolved once
@@ -157,13 +157,7 @@ pub fn ray_inputs<R: Range>(o: DVec3, d: DVec3, t0: f64, t1: f64) -> [R; 3] {
 /// `None` when pruning does not apply (no linear part, `f1` zero, non-finite values).
 #[inline]
 pub fn prune<R: Range>(f: &R, t0: f64, t1: f64) -> Option<Option<(f64, f64)>> {
-    prune_linear(f.linear_part()?, t0, t1)
-}
-
-/// [`prune`] from the linear part (which may come from a bundle's
-/// [`Range::affine_part`] for one of its rays).
-#[inline]
-pub fn prune_linear(lin: Linear, t0: f64, t1: f64) -> Option<Option<(f64, f64)>> {
+    let lin = f.linear_part()?;
     Pruner::new(t0, t1, lin.f1)?.prune(lin.f0, lin.e)
 }
 
@@ -292,66 +286,15 @@ pub const SHORT_PIECES: f64 = 3.0;
 /// the segment at hand is reported as a root (a hit, never a miss).
 const STACK: usize = 128;
 
-/// The first root of `shape` on the ray `o + t d`, `t in [t0, t1]` (Algorithm 1, first
-/// root only), in the arithmetic `A`'s ray form. Allocation-free.
-pub fn first_root<A: Arithmetic, S: Shape + ?Sized>(
-    shape: &S,
-    o: DVec3,
-    d: DVec3,
-    t0: f64,
-    t1: f64,
-    params: &RayParams,
-    stats: &mut RayStats,
-) -> Option<f64> {
-    first_root_in::<A::Ray, S>(shape, o, d, t0, t1, params, stats)
-}
-
-/// [`first_root`] for one concrete range type.
-pub fn first_root_in<R: Range, S: Shape + ?Sized>(
-    shape: &S,
-    o: DVec3,
-    d: DVec3,
-    t0: f64,
-    t1: f64,
-    params: &RayParams,
-    stats: &mut RayStats,
-) -> Option<f64> {
-    first_root_split::<R, S>(shape, o, d, t0, t1, t1, params, stats)
-}
-
-/// [`first_root_in`] searching `[t0, split]` before `[split, t1]`: the same result
-/// whatever `split` (any value is sound; one outside `(t0, t1)` is ignored), fewer
-/// evaluations when the first root is likely before it.
-#[allow(clippy::too_many_arguments)]
-pub fn first_root_split<R: Range, S: Shape + ?Sized>(
-    shape: &S,
-    o: DVec3,
-    d: DVec3,
-    t0: f64,
-    split: f64,
-    t1: f64,
-    params: &RayParams,
-    stats: &mut RayStats,
-) -> Option<f64> {
-    let mut stack = Vec::new();
-    let seg = Search {
-        t0,
-        split,
-        resume: split,
-        step: 0.0,
-        t1,
-    };
-    first_root_scratch::<R, S>(shape, o, d, seg, params, stats, &mut stack)
-}
-
-/// Where [`first_root_scratch`] searches a ray: `[t0, t1]`, `[t0, split]` first (any
-/// `split` is sound; one outside `(t0, t1)` is ignored). The caller may know more:
-/// `(split, resume)` proved root-free, then the search goes on at `resume` after
-/// `[t0, split]` (`resume == split` when it knows nothing), and a length on which the
-/// function's ranges are known to be tight: the march's first piece after `[t0, split]`
-/// is at least `step` long (`0`: none known).
+/// Where the search of a ray starts, in the ray's parameter (`t`; culling hands rays
+/// the same in depth along `forward`, see [`crate::search::cull`]): `[t0, t1]` is
+/// searched, `[t0, split]` first (any `split` is sound; one outside `(t0, t1)` is
+/// ignored). The caller may know more: `(split, resume)` proved root-free, then the
+/// search goes on at `resume` after `[t0, split]` (`resume == split` when it knows
+/// nothing), and a length on which the function's ranges are known to be tight: the
+/// march's first piece after `[t0, split]` is at least `step` long (`0`: none known).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Search {
+pub struct Start {
     pub t0: f64,
     pub split: f64,
     pub resume: f64,
@@ -359,16 +302,30 @@ pub struct Search {
     pub t1: f64,
 }
 
-/// [`first_root_split`] with the subdivision stack lent by the caller (emptied first):
-/// a renderer keeps one per tile instead of zeroing an array per ray (2% of a render).
-pub fn first_root_scratch<R: Range, S: Shape + ?Sized>(
+impl Start {
+    /// The whole of `[t0, t1]`, nothing known about it.
+    #[inline]
+    pub const fn whole(t0: f64, t1: f64) -> Start {
+        Start {
+            t0,
+            split: t1,
+            resume: t1,
+            step: 0.0,
+            t1,
+        }
+    }
+}
+
+/// The first root of `shape` on the ray `o + t d` searched as `start` says (Algorithm 1,
+/// first root only), in the arithmetic `A`'s ray form: [`RaySearch`] driven by one loop.
+/// Allocates only when a segment has to be halved.
+pub fn first_root<A: Arithmetic, S: Shape + ?Sized>(
     shape: &S,
     o: DVec3,
     d: DVec3,
-    seg: Search,
+    start: Start,
     params: &RayParams,
     stats: &mut RayStats,
-    stack: &mut Vec<(f64, f64)>,
 ) -> Option<f64> {
     let ray = RayCtx {
         shape,
@@ -376,12 +333,13 @@ pub fn first_root_scratch<R: Range, S: Shape + ?Sized>(
         d,
         params,
     };
-    let (mut search, mut next) = RaySearch::start(&ray, seg, stats, stack);
+    let mut stack = Vec::new();
+    let (mut search, mut next) = RaySearch::start(&ray, start, stats, &mut stack);
     loop {
         match next {
             Next::Eval(a, b) => {
-                let f: R = range_on_segment(shape, o, d, a, b);
-                next = search.feed(&f, &ray, stats, stack);
+                let f: A::Ray = range_on_segment(shape, o, d, a, b);
+                next = search.feed(&f, &ray, stats, &mut stack);
             }
             Next::Done(hit) => return hit,
         }
@@ -409,7 +367,7 @@ pub enum Next {
 }
 
 /// Algorithm 1 on one ray as a state machine that asks for one segment's range at a
-/// time ([`first_root_scratch`] is its plain loop): a renderer can then evaluate the
+/// time ([`first_root`] is its plain loop): a renderer can then evaluate the
 /// segments of four rays in one packed evaluation ([`arith_core::pack`]) and feed each
 /// its own lane. Whoever evaluates, each segment's range is the one the ray form gives,
 /// so the roots found are the same.
@@ -425,22 +383,22 @@ pub struct RaySearch {
 }
 
 impl RaySearch {
-    /// Starts the search of `seg` (the stack, lent by the caller, is emptied). A ray
+    /// Starts the search of `start` (the stack, lent by the caller, is emptied). A ray
     /// may be resolved at once, by a sign change over its first piece.
     #[inline]
     pub fn start<S: Shape + ?Sized>(
         ray: &RayCtx<'_, S>,
-        seg: Search,
+        start: Start,
         stats: &mut RayStats,
         stack: &mut Vec<(f64, f64)>,
     ) -> (RaySearch, Next) {
-        let Search {
+        let Start {
             t0,
             split,
             resume,
             step,
             t1,
-        } = seg;
+        } = start;
         let mut s = RaySearch {
             a: t0,
             b: t1,
@@ -573,20 +531,20 @@ impl RaySearch {
     }
 }
 
-/// One ray for [`first_roots`]: `o + t d` searched as `seg` says.
+/// One ray for [`first_roots`]: `o + t d` searched as `start` says.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RayJob {
     pub o: DVec3,
     pub d: DVec3,
-    pub seg: Search,
+    pub start: Start,
 }
 
-/// [`first_root_scratch`] for many rays, four at a time: each step evaluates the
+/// [`first_root`] for many rays, four at a time: each step evaluates the
 /// segments asked for by up to four searches in one [`Arithmetic::RayPack`] evaluation
 /// (scalar evaluations when a single search is left, or when the shape does not
 /// [pack](Shape::packs)), and a finished search's slot
 /// takes the next ray. Calls `done(index, first root, counters)` once per ray, in the
-/// order the rays finish. The roots are those of [`first_root_scratch`], ray by ray:
+/// order the rays finish. The roots are those of [`first_root`], ray by ray:
 /// each lane of a pack is the scalar ray form's range.
 pub fn first_roots<A: Arithmetic, S: Shape + ?Sized>(
     shape: &S,
@@ -616,7 +574,7 @@ pub fn first_roots<A: Arithmetic, S: Shape + ?Sized>(
                 let Some(ray) = queue.next() else { break };
                 let mut stats = RayStats::default();
                 let (search, next) =
-                    RaySearch::start(&ctx(&rays[ray]), rays[ray].seg, &mut stats, stack);
+                    RaySearch::start(&ctx(&rays[ray]), rays[ray].start, &mut stats, stack);
                 match next {
                     Next::Eval(a, b) => {
                         *slot = Some(Slot {
@@ -702,13 +660,18 @@ mod tests {
         };
         for split in [1.0f64.next_up(), 1.0 + 1e-12] {
             let mut stats = RayStats::default();
-            let hit = first_root_split::<arith_revaa::RevAa<1>, _>(
+            let start = Start {
+                t0: 1.0,
+                split,
+                resume: split,
+                step: 0.0,
+                t1: 2.0,
+            };
+            let hit = first_root::<arith_revaa::RevAaArith, _>(
                 &Neg,
                 DVec3::ZERO,
                 DVec3::X,
-                1.0,
-                split,
-                2.0,
+                start,
                 &params,
                 &mut stats,
             );
@@ -753,14 +716,14 @@ mod tests {
                 // A first piece of any length, the shortest ones resolved at once.
                 let split = t0 + (t1 - t0) * rnd().powi(6);
                 let resume = split + (t1 - split) * 0.5 * rnd();
-                let seg = Search {
+                let start = Start {
                     t0,
                     split,
                     resume,
                     step: 0.0,
                     t1,
                 };
-                jobs.push(RayJob { o, d, seg });
+                jobs.push(RayJob { o, d, start });
             }
             assert!(jobs.len() >= 9, "{}: {} rays", m.name, jobs.len());
             for kind in crate::arith::ArithKind::ALL {
@@ -770,10 +733,9 @@ mod tests {
                         assert!(got[k].is_none(), "ray {k} reported twice");
                         got[k] = Some((hit, st));
                     });
-                    let mut stack = Vec::new();
                     for (k, j) in jobs.iter().enumerate() {
                         let mut st = RayStats::default();
-                        let hit = first_root_scratch::<<A as Arithmetic>::Ray, _>(&m, j.o, j.d, j.seg, &params, &mut st, &mut stack);
+                        let hit = first_root::<A, _>(&m, j.o, j.d, j.start, &params, &mut st);
                         assert_eq!(got[k], Some((hit, st)), "{} {kind} ray {k}", m.name);
                     }
                 });
