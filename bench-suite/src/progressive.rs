@@ -38,7 +38,9 @@ pub const FIG9_METHODS: [&str; 3] = ["previewer", "overshoot-rc", "standard-rc"]
 /// One method's cell of the paper's Table 1.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PaperCell {
+    /// Seconds for the final image.
     pub seconds: f64,
+    /// Point evaluations of `f`.
     pub evals: u64,
 }
 
@@ -49,8 +51,11 @@ pub struct PaperRow {
     pub label: &'static str,
     /// Our model for that figure.
     pub model: &'static str,
+    /// The previewer's cell.
     pub previewer: PaperCell,
+    /// The overshooting ray caster's cell.
     pub overshoot: PaperCell,
+    /// The standard ray caster's cell.
     pub standard: PaperCell,
 }
 
@@ -134,6 +139,7 @@ pub struct Options {
     pub models: Vec<Model>,
     /// Fig. 9 runs the hypertexture with `L = 1..=layers` (0: no Fig. 9).
     pub layers: u32,
+    /// Folder the tables and plots are written to.
     pub out: PathBuf,
     /// Print each model's progress on stderr.
     pub verbose: bool,
@@ -155,6 +161,7 @@ impl Options {
 /// The measurements.
 #[derive(Clone, Debug)]
 pub struct Report {
+    /// Image side in pixels.
     pub size: u32,
     /// Table 1: every method for each model.
     pub table: Vec<BenchRow>,

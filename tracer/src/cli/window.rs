@@ -23,7 +23,9 @@ use std::time::Instant;
 /// Messages from the display thread to the refinement thread.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Command {
+    /// Refine this rectangle first.
     SetRoi(Rect),
+    /// Refine the whole image again.
     CancelRoi,
 }
 

@@ -9,6 +9,7 @@ use std::time::Instant;
 /// One row of the previewer benchmark (the paper's Table 1 and Fig. 9).
 #[derive(Clone, Debug, PartialEq)]
 pub struct BenchRow {
+    /// The model's name.
     pub model: String,
     /// `previewer`, `previewer-local`, `overshoot-rc`, `standard-rc`, `local-rc`.
     pub method: &'static str,

@@ -71,9 +71,13 @@ impl Options {
 /// A rectangle of pixels `[x0, x1) x [y0, y1)`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Rect {
+    /// Left edge (inclusive).
     pub x0: u32,
+    /// Top edge (inclusive).
     pub y0: u32,
+    /// Right edge (exclusive).
     pub x1: u32,
+    /// Bottom edge (exclusive).
     pub y1: u32,
 }
 
@@ -137,7 +141,9 @@ pub enum Step {
     /// (from the primary queue) was taken, i.e. the previous level is complete.
     /// `roi_finished`: the region of interest became fully refined.
     Processed {
+        /// The level whose first sample was just taken, if one was.
         level_started: Option<usize>,
+        /// Whether the region of interest became fully refined.
         roi_finished: bool,
     },
 }

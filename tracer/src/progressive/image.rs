@@ -9,7 +9,9 @@ use std::sync::atomic::{AtomicU32, Ordering};
 /// `0x00RRGGBB` per pixel in relaxed atomics, so a torn frame is possible (and erased at
 /// the next refresh) but there are no locks and no data races.
 pub struct SharedImage {
+    /// Width in pixels.
     pub width: u32,
+    /// Height in pixels.
     pub height: u32,
     pixels: Vec<AtomicU32>,
 }

@@ -33,9 +33,13 @@ fn gcd(a: u32, b: u32) -> u32 {
 /// then a `p x p` split per level, `p` the prime factors of `gcd(w, h)`, largest first.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Plan {
+    /// Top-level samples across.
     pub u: u32,
+    /// Top-level samples down.
     pub v: u32,
+    /// Side of a top-level sample in pixels.
     pub size: u32,
+    /// The split per level, largest prime first.
     pub splits: Vec<u32>,
 }
 

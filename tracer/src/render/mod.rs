@@ -37,8 +37,11 @@ pub trait Progress: Send + Sync + std::fmt::Debug {
 /// What to render and how.
 #[derive(Clone, Debug)]
 pub struct RenderOptions {
+    /// Image width in pixels.
     pub width: u32,
+    /// Image height in pixels.
     pub height: u32,
+    /// The camera placement.
     pub view: View,
     /// Rays are clipped to this box; the function is not looked at outside it.
     pub domain: Aabb,
@@ -51,7 +54,9 @@ pub struct RenderOptions {
     pub pruning: bool,
     /// Shadow rays towards the light.
     pub shadows: bool,
+    /// Surface reflectance.
     pub material: Material,
+    /// Colour of pixels that miss, RGB.
     pub background: [u8; 3],
     /// Told the number of tiles and each finished tile (a progress bar, say).
     pub progress: Option<Arc<dyn Progress>>,
@@ -104,9 +109,11 @@ impl RenderOptions {
 /// Work and time counters of one render.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct RenderStats {
+    /// Wall time of the render.
     pub wall: Duration,
     /// Primary rays traced (pixels not dropped by culling).
     pub rays: u64,
+    /// Shadow rays traced.
     pub shadow_rays: u64,
     /// Range evaluations along rays (primary and shadow).
     pub range_evals: u64,
@@ -116,10 +123,13 @@ pub struct RenderStats {
     pub cell_evals: u64,
     /// Point evaluations (normals).
     pub point_evals: u64,
+    /// Cells proved empty by culling.
     pub cells_culled: u64,
+    /// Pixels inside culled cells (no ray traced).
     pub pixels_culled: u64,
     /// Segments proved root-free by argument pruning alone.
     pub pruned_empty: u64,
+    /// Pixels whose ray hit the surface.
     pub hits: u64,
     /// Hit pixels whose root no sign change confirms: the six samples of `f` at the
     /// normal's step around the root (which the normal is computed from, so the check
@@ -131,7 +141,9 @@ pub struct RenderStats {
     pub unconfirmed: u64,
     /// Whether the render stopped early (deadline or cancel): skipped tiles are background.
     pub cut: bool,
+    /// Tiles rendered.
     pub tiles_done: u64,
+    /// Tiles in the image.
     pub tiles_total: u64,
 }
 
@@ -179,13 +191,17 @@ impl std::fmt::Display for RenderStats {
 /// An image with its depth and hit mask, row-major, row 0 at the top.
 #[derive(Clone, Debug)]
 pub struct RenderResult {
+    /// Image width in pixels.
     pub width: u32,
+    /// Image height in pixels.
     pub height: u32,
     /// RGB, 3 bytes per pixel.
     pub rgb: Vec<u8>,
     /// Distance from the eye along the normalised ray to the first root; `+inf` for a miss.
     pub depth: Vec<f32>,
+    /// Whether each pixel's ray hit the surface.
     pub hit: Vec<bool>,
+    /// The render's counters.
     pub stats: RenderStats,
 }
 

@@ -170,6 +170,7 @@ const NARROW_BUDGET: u32 = 48;
 const NARROW_STACK: usize = 48;
 
 impl Culler {
+    /// A culler for the camera's view of `domain`.
     pub fn new(cam: &Camera, domain: &Aabb) -> Self {
         let scale = (domain.max - domain.min).length()
             + (cam.eye - domain.min).length()

@@ -41,7 +41,9 @@ use glam::DVec3;
 /// user's `--eps T`, then `rel = 0`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Precision {
+    /// Absolute part of the precision.
     pub abs: f64,
+    /// Relative part, per unit of distance from the eye.
     pub rel: f64,
 }
 
@@ -56,6 +58,7 @@ impl Precision {
 /// Options of one intersection.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RayParams {
+    /// When a segment is resolved.
     pub precision: Precision,
     /// Argument pruning with the linear part of the form (no effect for IA).
     pub pruning: bool,
@@ -295,10 +298,15 @@ const STACK: usize = 128;
 /// march's first piece after `[t0, split]` is at least `step` long (`0`: none known).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Start {
+    /// Start of the searched segment.
     pub t0: f64,
+    /// End of the part searched first.
     pub split: f64,
+    /// Where the search goes on after `[t0, split]`.
     pub resume: f64,
+    /// Least length of the march's first piece after `[t0, split]` (`0`: none known).
     pub step: f64,
+    /// End of the searched segment.
     pub t1: f64,
 }
 
@@ -350,9 +358,13 @@ pub fn first_root<A: Arithmetic, S: Shape + ?Sized>(
 /// sign checks at points), the ray `o + t d` and the search options.
 #[derive(Clone, Copy)]
 pub struct RayCtx<'a, S: ?Sized> {
+    /// The shape.
     pub shape: &'a S,
+    /// The ray's origin.
     pub o: DVec3,
+    /// The ray's direction.
     pub d: DVec3,
+    /// The search options.
     pub params: &'a RayParams,
 }
 
@@ -534,8 +546,11 @@ impl RaySearch {
 /// One ray for [`first_roots`]: `o + t d` searched as `start` says.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RayJob {
+    /// The ray's origin.
     pub o: DVec3,
+    /// The ray's direction.
     pub d: DVec3,
+    /// Where its search starts.
     pub start: Start,
 }
 

@@ -9,12 +9,16 @@ use std::fmt;
 /// One of the three coordinates.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Var {
+    /// `x`.
     X,
+    /// `y`.
     Y,
+    /// `z`.
     Z,
 }
 
 impl Var {
+    /// Its name in formulas.
     pub fn name(self) -> &'static str {
         match self {
             Var::X => "x",
@@ -27,14 +31,23 @@ impl Var {
 /// A named function.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Func {
+    /// `sqrt`.
     Sqrt,
+    /// `sqr`: the square.
     Sqr,
+    /// `exp`.
     Exp,
+    /// `ln`: the natural logarithm.
     Ln,
+    /// `sin`.
     Sin,
+    /// `cos`.
     Cos,
+    /// `abs`.
     Abs,
+    /// `min` of two arguments.
     Min,
+    /// `max` of two arguments.
     Max,
 }
 
@@ -52,6 +65,7 @@ impl Func {
         Func::Max,
     ];
 
+    /// Its name in formulas.
     pub fn name(self) -> &'static str {
         match self {
             Func::Sqrt => "sqrt",
@@ -74,6 +88,7 @@ impl Func {
         }
     }
 
+    /// The function named `s`, if any.
     pub fn from_name(s: &str) -> Option<Func> {
         Func::ALL.into_iter().find(|f| f.name() == s)
     }
@@ -82,9 +97,13 @@ impl Func {
 /// A binary operator.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum BinOp {
+    /// `+`.
     Add,
+    /// `-`.
     Sub,
+    /// `*`.
     Mul,
+    /// `/`.
     Div,
     /// R-function intersection `&`.
     Intersect,
@@ -95,6 +114,7 @@ pub enum BinOp {
 }
 
 impl BinOp {
+    /// Every operator.
     pub const ALL: [BinOp; 7] = [
         BinOp::Add,
         BinOp::Sub,
@@ -105,6 +125,7 @@ impl BinOp {
         BinOp::Subtract,
     ];
 
+    /// Its symbol in formulas.
     pub fn symbol(self) -> &'static str {
         match self {
             BinOp::Add => "+",
@@ -141,25 +162,32 @@ pub(crate) const PREC_PRIMARY: u8 = 7;
 pub enum Expr {
     /// A literal (the parser only makes finite, non-negative ones).
     Num(f64),
+    /// A coordinate.
     Var(Var),
     /// The value of binding number `i` of the enclosing [`Program`] (only earlier
     /// bindings may be referred to).
     Ref(usize),
+    /// `-a`.
     Neg(Box<Expr>),
     /// `base ^ n`.
     Pow(Box<Expr>, i32),
+    /// A function applied to its arguments.
     Call(Func, Vec<Expr>),
+    /// A binary operator applied to two operands.
     Bin(BinOp, Box<Expr>, Box<Expr>),
 }
 
 impl Expr {
+    /// `a op b`.
     pub fn bin(op: BinOp, a: Expr, b: Expr) -> Expr {
         Expr::Bin(op, Box::new(a), Box::new(b))
     }
     #[allow(clippy::should_implement_trait)]
+    /// `-a`.
     pub fn neg(a: Expr) -> Expr {
         Expr::Neg(Box::new(a))
     }
+    /// `a ^ n`.
     pub fn pow(a: Expr, n: i32) -> Expr {
         Expr::Pow(Box::new(a), n)
     }
@@ -178,14 +206,18 @@ impl Expr {
 /// `name = expr;` before the final expression.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Binding {
+    /// The bound name.
     pub name: String,
+    /// Its value.
     pub expr: Expr,
 }
 
 /// A whole formula: bindings, then the expression whose value is the function.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Program {
+    /// The bindings, in order.
     pub bindings: Vec<Binding>,
+    /// The final expression.
     pub body: Expr,
 }
 

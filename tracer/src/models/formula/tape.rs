@@ -21,20 +21,31 @@ use std::fmt;
 /// `n` an integer exponent.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Op {
+    /// The input `x`.
     X,
+    /// The input `y`.
     Y,
+    /// The input `z`.
     Z,
     /// `c`
     Const,
+    /// `-a`
     Neg,
+    /// `a^2`
     Sqr,
     /// `a^n`
     Powi,
+    /// `sqrt(a)`
     Sqrt,
+    /// `exp(a)`
     Exp,
+    /// `ln(a)`
     Ln,
+    /// `sin(a)`
     Sin,
+    /// `cos(a)`
     Cos,
+    /// `|a|`
     Abs,
     /// `a + c`
     AddC,
@@ -48,11 +59,17 @@ pub enum Op {
     DivC,
     /// `c / a`
     RDivC,
+    /// `a + b`
     Add,
+    /// `a - b`
     Sub,
+    /// `a * b`
     Mul,
+    /// `a / b`
     Div,
+    /// `min(a, b)`
     Min,
+    /// `max(a, b)`
     Max,
     /// R-function `a & b`
     Intersect,
@@ -120,11 +137,13 @@ impl Op {
 /// One tape instruction; its result is the register with its own index.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Instr {
+    /// What it computes.
     pub op: Op,
     /// Exponent of [`Op::Powi`], 0 otherwise.
     pub n: i32,
     /// Operand registers (unused ones are 0).
     pub a: u32,
+    /// Second operand register (unused ones are 0).
     pub b: u32,
     /// Constant of [`Op::Const`] and the `...C` ops, 0 otherwise.
     pub c: f64,
