@@ -1,45 +1,10 @@
-//! Algorithm 2: screen-space cell culling.
-//!
-//! A cell of pixels `[i0, i1) x [j0, j1)` is a bundle of rays through the pixel centres.
-//! With the un-normalised direction `D(px, py) = forward + dx right + dy up'` (linear in the
-//! pixel coordinates, and `D . forward = 1`), the bundle's points are `eye + s D` with `s`
-//! the depth along `forward`. Between two depths `s0 <= s1` that set is a frustum segment,
-//! the convex hull of its 8 corners, so their bounding box, intersected with the domain,
-//! encloses every point the bundle's rays visit inside the domain. The depth range starts
-//! as the domain's (a linear function is extreme at box corners) and is tightened by the
-//! depth range of the resulting box (still an enclosure, since the box holds all those
-//! points). Everything is widened by a margin far above the rounding of the corners
-//! and of [`crate::search::ray::clip`].
-//!
-//! A cell is tested in the arithmetic's cell form with THREE INDEPENDENT inputs. The
-//! paper's Section 4.2 writes `x`, `y` and `z` with the same symbol `eps1`, which asserts
-//! that they vary together (only the box's diagonal is covered): unsound for a box, so we
-//! do not do that. Our three inputs are the bundle's own coordinates: the depth `s` and
-//! the pixel coordinates `u`, `v` (both in `[-1, 1]` over the cell's pixel centres), and
-//! `x`, `y`, `z` are built on them as affine forms ([`Range::from_affine`]) of the
-//! frustum's points `eye + s D(u, v)`; the product `s D` leaves the terms `s u`, `s v`,
-//! bounded in the error. Unlike the box, these forms follow the frustum's slant, and the
-//! range's linear part on the depth symbol prunes the cell's depth range like a ray's
-//! (see [`crate::search::ray::prune`]). Arithmetics without symbols (intervals) get the
-//! parallelepiped's box, which is the frustum's box up to its slant. A cell whose range
-//! excludes 0 holds no root of any of its rays and is dropped; otherwise it is split in
-//! four, down to cells too small to be worth a test, whose rays are traced one by one.
-//!
-//! Beam narrowing: a cell's depth range is cut into slices, front to back (a slice's box
-//! is the same frustum-segment box, for that depth range only), and the slices proved
-//! root-free are cut away up to the first that is not; the cell is dropped when all of
-//! them are, otherwise its children inherit the narrowed depth range and every traced ray
-//! is searched only from that first slice on, and that slice first (see [`Culler::traverse`]).
-//! A thick box around the whole depth range holds 0 for most cells near a surface; thin
-//! slices prove the empty space in front of it for the whole bundle at once, which each
-//! ray would otherwise prove on its own.
-//!
-//! The last form of a cell says more: fixing `u` and `v` at a child cell's corners (or at
-//! one ray's pixel) leaves a form affine in the depth symbol, and pruning it tells where
-//! in the slice that child's (or ray's) roots can be, without an evaluation: the child
-//! starts its own narrowing there, and a ray searches that piece first, skips the rest of
-//! the slice, and is resolved by two point evaluations when the piece is already within
-//! the precision and shows a sign change.
+//! Algorithm 2: screen-space cell culling. A cell of pixels is a bundle of rays, tested
+//! in the arithmetic's cell form with three independent inputs (the depth along `forward`
+//! and the two pixel coordinates, `x, y, z` built on them with [`Range::from_affine`]; the
+//! paper's single shared symbol is unsound for a box). A cell whose range excludes 0 is
+//! dropped, otherwise its depth range is narrowed slice by slice ([`Culler::traverse`]) and
+//! it is split in four; its last form tells each child and each ray where their roots can
+//! be. The derivation, the margins and the choices are in `docs/algorithm-2-culling.md`.
 
 use crate::camera::Camera;
 use crate::search::ray::{Pruner, Start};

@@ -1,31 +1,11 @@
-//! Algorithm 1: reliable ray-surface intersection.
-//!
-//! On a segment `[t0, t1]` of the ray `o + t d` the function's range is computed in the
-//! arithmetic's ray form (one input, `t`); no zero in it: no root there. Otherwise the
-//! segment is pruned with the linear part of the affine form (Section 4.1.2, widened by a
-//! margin above its rounding), and, unless it is already shorter than the precision, split in two,
-//! the first half searched first. A segment shorter than the precision whose range still
-//! holds 0 is reported as the root (its midpoint), so a ray whose segment holds a root
-//! always reports a hit: tangent (double) roots and features thinner than the precision
-//! included, since the range of a sound arithmetic never excludes a value taken.
-//!
-//! Two departures from the paper's loop, both about cost, neither about which roots are
-//! found: a pruned segment that is already within the precision and shows a sign change
-//! at its ends is reported at once (the paper's affine Newton steps would go on to machine
-//! precision: three of Mitchell's eight evaluations per hit), and with culling the ray
-//! does not start with a range over its whole remaining segment (which spans both sides of
-//! a closed surface and says nothing until halved many times) but marches: first the
-//! slice its cell could not prove empty, then pieces [`MARCH_GROWTH`] times as long as the
-//! last segment proved empty (so the pieces follow the length on which the function's
-//! ranges are tight: -25% evaluations on hair and the microstructure). When the cell's
-//! form has already placed the ray's roots in a piece within the precision (see
-//! [`crate::search::cull`]), a sign change at its ends resolves the ray without any range
-//! evaluation: nothing before the piece holds a root, so the first root lies in it.
-//!
-//! The search is a state machine ([`RaySearch`]) that asks for one segment's range at a
-//! time, so a renderer can search four rays at once ([`first_roots`]): their segments
-//! are evaluated together in the arithmetic's [`Arithmetic::RayPack`] (SIMD lanes for
-//! RevAA), each lane exactly its scalar range, so the roots and counts are the same.
+//! Algorithm 1: reliable ray-surface intersection. On a segment of the ray the function's
+//! range in the ray form (one input, `t`) excludes 0, or the segment is pruned with the
+//! form's linear part and halved, first half first; a segment shorter than the precision
+//! whose range holds 0 is the root, so no root is ever missed. The search is a state
+//! machine ([`RaySearch`]) asking for one range at a time, so [`first_roots`] searches four
+//! rays in one [`Arithmetic::RayPack`] evaluation. The paper's loop, our two departures
+//! from it (sign-change shortcut, marching from the cell's slice) and their measured effect
+//! are in `docs/algorithm-1-ray.md`.
 
 use crate::shape::{Aabb, Shape};
 use arith_core::pack::{Pack, LANES};
