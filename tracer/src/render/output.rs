@@ -101,24 +101,22 @@ pub fn write_png(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<(),
         .map_err(|e| format!("cannot write '{}': {e}", path.display()))
 }
 
-/// The NPY v1.0 bytes of a `float32` array of shape `(height, width)`, row-major.
+/// The NPY bytes (NumPy's format, written by `npyz`) of a `float32` array of shape
+/// `(height, width)`, row-major.
 pub fn npy_bytes(width: u32, height: u32, data: &[f32]) -> Vec<u8> {
-    let mut header =
-        format!("{{'descr': '<f4', 'fortran_order': False, 'shape': ({height}, {width}), }}");
-    // magic (6) + version (2) + header length (2) + header, padded with spaces and ended
-    // by a newline so the data starts on a 64-byte boundary.
-    let unpadded = 10 + header.len() + 1;
-    let pad = (64 - unpadded % 64) % 64;
-    header.push_str(&" ".repeat(pad));
-    header.push('\n');
-    let mut out = Vec::with_capacity(10 + header.len() + data.len() * 4);
-    out.extend_from_slice(b"\x93NUMPY");
-    out.extend_from_slice(&[1, 0]);
-    out.extend_from_slice(&(header.len() as u16).to_le_bytes());
-    out.extend_from_slice(header.as_bytes());
-    for v in data {
-        out.extend_from_slice(&v.to_le_bytes());
-    }
+    use npyz::WriterBuilder;
+    let mut out = Vec::with_capacity(128 + data.len() * 4);
+    let written = npyz::WriteOptions::new()
+        .default_dtype()
+        .shape(&[u64::from(height), u64::from(width)])
+        .writer(&mut out)
+        .begin_nd()
+        .and_then(|mut w| {
+            w.extend(data.iter().copied())?;
+            w.finish()
+        });
+    // Writing into memory cannot fail.
+    debug_assert!(written.is_ok());
     out
 }
 
@@ -157,18 +155,16 @@ mod tests {
 
     #[test]
     fn npy_header_is_valid() {
-        let b = npy_bytes(3, 2, &[1.0, 2.0, 3.0, 4.0, 5.0, f32::INFINITY]);
+        let data = [1.0, 2.0, 3.0, 4.0, 5.0, f32::INFINITY];
+        let b = npy_bytes(3, 2, &data);
         assert_eq!(&b[..6], b"\x93NUMPY");
-        assert_eq!(&b[6..8], &[1, 0]);
-        let hl = u16::from_le_bytes([b[8], b[9]]) as usize;
-        assert_eq!((10 + hl) % 64, 0);
-        let h = std::str::from_utf8(&b[10..10 + hl]).unwrap();
-        assert!(h.contains("'shape': (2, 3)") && h.contains("'<f4'") && h.ends_with('\n'));
-        assert_eq!(b.len(), 10 + hl + 6 * 4);
+        let npy = npyz::NpyFile::new(&b[..]).unwrap();
+        assert_eq!(npy.shape(), &[2, 3]);
+        assert_eq!(npy.order(), npyz::Order::C);
+        assert_eq!(npy.into_vec::<f32>().unwrap(), data);
+        // Little-endian float32, the data last.
         let last = f32::from_le_bytes(b[b.len() - 4..].try_into().unwrap());
         assert_eq!(last, f32::INFINITY);
-        let first = f32::from_le_bytes(b[10 + hl..14 + hl].try_into().unwrap());
-        assert_eq!(first, 1.0);
     }
 
     #[test]
