@@ -84,3 +84,26 @@ macro_rules! out {
         }
     }};
 }
+
+/// Set once [`say!`] has met a write error: the process's progress lines stop.
+#[doc(hidden)]
+pub static SAY_SILENT: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// `println!` for progress lines of long work (the previewer's levels): a closed stdout
+/// (`tracer preview ... | head -1`) only stops the lines, the work goes on and writes
+/// its files; another write error is reported once on stderr, then the lines stop too.
+#[macro_export]
+macro_rules! say {
+    ($($t:tt)*) => {{
+        use std::io::Write as _;
+        let silent = &$crate::SAY_SILENT;
+        if !silent.load(std::sync::atomic::Ordering::Relaxed) {
+            if let Err(e) = writeln!(std::io::stdout(), $($t)*) {
+                silent.store(true, std::sync::atomic::Ordering::Relaxed);
+                if e.kind() != std::io::ErrorKind::BrokenPipe {
+                    eprintln!("warning: cannot write to stdout: {e}; going on without progress lines");
+                }
+            }
+        }
+    }};
+}

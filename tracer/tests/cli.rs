@@ -283,6 +283,57 @@ fn closed_stdout_is_not_a_panic() {
     }
 }
 
+/// A headless preview whose stdout is closed (`| head -1`) or full (`> /dev/full`)
+/// still refines to the end and writes its image, without a panic.
+#[test]
+fn preview_with_a_closed_or_full_stdout_still_writes_its_image() {
+    use std::process::Stdio;
+    let png = tmp("closed-preview.png");
+    let args = [
+        "preview",
+        "mitchell-gm",
+        "--headless",
+        "--size",
+        "32x32",
+        "--out",
+        png.to_str().unwrap(),
+    ];
+    let _ = std::fs::remove_file(&png);
+    let mut child = Command::new(env!("CARGO_BIN_EXE_tracer"))
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("tracer runs");
+    drop(child.stdout.take());
+    let out = child.wait_with_output().expect("tracer ends");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{:?} {err}", out.status);
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(image::open(&png).is_ok(), "the image was not written");
+    if std::path::Path::new("/dev/full").exists() {
+        let _ = std::fs::remove_file(&png);
+        let full = std::fs::OpenOptions::new()
+            .write(true)
+            .open("/dev/full")
+            .unwrap();
+        let out = Command::new(env!("CARGO_BIN_EXE_tracer"))
+            .args(args)
+            .stdout(full)
+            .output()
+            .expect("tracer ends");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{:?} {err}", out.status);
+        assert!(!err.contains("panicked"), "{err}");
+        assert_eq!(
+            err.lines().filter(|l| l.contains("cannot write")).count(),
+            1,
+            "{err}"
+        );
+        assert!(image::open(&png).is_ok(), "the image was not written");
+    }
+}
+
 /// Values too large to set up the view are named, not reported as a coincident eye
 /// or a parallel up vector.
 #[test]

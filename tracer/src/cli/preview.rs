@@ -146,7 +146,7 @@ pub fn run_headless<S: crate::shape::Shape>(
 ) -> Result<(), String> {
     let start = Instant::now();
     let plan = engine.plan().clone();
-    println!(
+    crate::say!(
         "plan: {}x{} top-level samples of {} px, splits {:?}, lambda {}",
         plan.u,
         plan.v,
@@ -158,7 +158,7 @@ pub fn run_headless<S: crate::shape::Shape>(
     let mut io = std::time::Duration::ZERO;
     let mut snap = |engine: &Engine<S>, level: usize| -> Result<(), String> {
         let s = engine.stats();
-        println!(
+        crate::say!(
             "level {level} complete: {} iterations, {} evaluations, {:.3} s",
             s.iterations,
             s.evals,
@@ -203,7 +203,7 @@ pub fn run_headless<S: crate::shape::Shape>(
         }
         return Ok(());
     }
-    println!(
+    crate::say!(
         "done: {} iterations, {} evaluations (+{} for normals, {} range), {:.3} s",
         s.iterations,
         s.evals,

@@ -196,7 +196,7 @@ pub fn run_window<S: Shape + 'static>(engine: Engine<S>, args: &PreviewArgs) -> 
     if let Some(out) = &args.out {
         write_atomically(&image, out)?;
     }
-    println!(
+    crate::say!(
         "{}: {} iterations, {} evaluations, {:.3} s, {} frames",
         if complete {
             "complete"
