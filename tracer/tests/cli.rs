@@ -520,6 +520,7 @@ fn range_and_preview_take_every_listed_model() {
     ]);
     assert_eq!(out.status.code(), Some(0), "{out:?}");
     // A gradient the interval bound cannot bound is one clear line, not a wrong image.
+    let out = tmp("hair-preview.png");
     assert_user_error(
         &[
             "preview",
@@ -529,6 +530,8 @@ fn range_and_preview_take_every_listed_model() {
             "8",
             "--height",
             "8",
+            "--out",
+            out.to_str().unwrap(),
         ],
         "Lipschitz",
     );
@@ -786,4 +789,40 @@ fn preview_takes_size() {
         "8",
     ]);
     assert_eq!(out.status.code(), Some(2), "{out:?}");
+}
+
+/// The previewer's output paths are checked before any work: one line naming the flag.
+#[test]
+fn preview_paths_are_checked_first() {
+    let base = ["preview", "mitchell-gm", "--size", "16x16"];
+    let with = |extra: &[&str]| -> Vec<String> {
+        base.iter().chain(extra).map(|s| s.to_string()).collect()
+    };
+    let run = |extra: &[&str], needle: &str| {
+        let args = with(extra);
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        assert_user_error(&args, needle);
+    };
+    run(&["--headless"], "--out");
+    let dir = tmp("snapdir");
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = tmp("snapfile.txt");
+    std::fs::write(&file, "x").unwrap();
+    run(&["--headless", "--out", dir.to_str().unwrap()], "--out");
+    run(
+        &["--headless", "--out", tmp("o.jpg").to_str().unwrap()],
+        ".png",
+    );
+    run(
+        &["--headless", "--out", "/no-such-folder-xyz/o.png"],
+        "--out",
+    );
+    run(
+        &["--headless", "--snapshots", file.to_str().unwrap()],
+        "not a folder",
+    );
+    run(
+        &["--snapshots", dir.to_str().unwrap(), "--stop-after", "0.1"],
+        "--headless",
+    );
 }

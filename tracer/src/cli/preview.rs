@@ -92,6 +92,40 @@ impl PreviewArgs {
     }
 }
 
+/// Refuses, before any work, a run that would write nothing (`--headless` with neither
+/// `--out` nor `--snapshots`), `--snapshots` without `--headless` (the window keeps no
+/// snapshots), an `--out` that is not a writable `.png`, and a `--snapshots` that is
+/// not a folder or cannot be made one.
+fn check_paths(args: &PreviewArgs) -> Result<(), String> {
+    if args.headless && args.out.is_none() && args.snapshots.is_none() {
+        return Err("--headless: give --out FILE or --snapshots DIR, or nothing is written".into());
+    }
+    if let Some(dir) = &args.snapshots {
+        if !args.headless {
+            return Err(format!(
+                "--snapshots '{}': snapshots are written with --headless only",
+                dir.display()
+            ));
+        }
+        if dir.exists() && !dir.is_dir() {
+            return Err(format!(
+                "--snapshots '{}': is a file, not a folder",
+                dir.display()
+            ));
+        }
+        std::fs::create_dir_all(dir).map_err(|e| {
+            format!(
+                "--snapshots '{}': cannot create the folder: {e}",
+                dir.display()
+            )
+        })?;
+    }
+    if let Some(out) = &args.out {
+        crate::render::output::check_outputs(out, None)?;
+    }
+    Ok(())
+}
+
 /// Builds the engine options for `args` and `model`.
 pub fn options_for(args: &PreviewArgs, model: &Model) -> Result<Options, String> {
     let lambda = match (args.lambda, model.lipschitz) {
@@ -130,6 +164,7 @@ pub fn run_preview(args: &PreviewArgs) -> Result<(), String> {
         args.expr.as_deref(),
         args.domain.as_deref().map(|d| ("--domain", d)),
     )?;
+    check_paths(args)?;
     let opts = options_for(args, &model)?;
     let engine = Engine::new(model.clone(), model.domain, model.view, width, height, opts)?;
     if args.headless {
