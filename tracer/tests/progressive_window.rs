@@ -46,6 +46,8 @@ fn window_refines_for_a_second_then_stops_and_writes_the_image() {
     // This test binary holds this one test only, so setting the variable races nothing.
     std::env::set_var("DISPLAY", &display);
     let dir = std::env::temp_dir().join(format!("tracer-window-{}", std::process::id()));
+    // --out's folder must exist, as for `tracer render`.
+    std::fs::create_dir_all(&dir).unwrap();
     let out = dir.join("stopped.png");
     let args = PreviewArgs {
         model: Some("hypertexture-5".into()),
