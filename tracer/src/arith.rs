@@ -1,33 +1,53 @@
 //! The one list of arithmetics. [`ArithKind`], [`ArithKind::ALL`], the names, the help
-//! texts and the dispatch [`with_arith!`](crate::with_arith) are all generated from the
-//! list in [`arith_list!`](crate::arith_list), so adding an arithmetic is one crate
-//! implementing [`arith_core::Range`] and [`arith_core::Arithmetic`] plus one line there
-//! (and the crate in `tracer`'s dependencies and re-exports below).
+//! texts, the re-exports of the arithmetic crates and the dispatch
+//! [`with_arith!`](crate::with_arith) are all generated from the list in
+//! [`arith_list!`](crate::arith_list), so adding an arithmetic is one crate implementing
+//! [`arith_core::Range`] and [`arith_core::Arithmetic`] plus one line there (and the
+//! crate among the workspace's and `tracer`'s dependencies in `Cargo.toml`).
 
 use std::fmt;
 use std::str::FromStr;
 
-pub use arith_aa;
 pub use arith_core;
-pub use arith_ia;
-pub use arith_raa;
-pub use arith_revaa;
 
-/// `arith_list!([callback] { args })` calls `callback! { args [ Variant => path::to::ArithmeticFamily, ... ] }` with
-/// every arithmetic, in the papers' table order. This is the one list: the enum, `ALL`,
-/// the dispatch and every table are generated from it.
+/// `arith_list!([callback] { args })` calls
+/// `callback! { args [ Variant => path::to::ArithmeticFamily, ... ] }` with every
+/// arithmetic, in the papers' table order; `arith_list!(@crates [callback])` calls
+/// `callback! { [ crate_name, ... ] }`. This is the one list: the enum, `ALL`, the
+/// re-exports, the dispatch and every table are generated from it.
 #[doc(hidden)]
 #[macro_export]
 macro_rules! arith_list {
-    ([$($callback:tt)*] { $($args:tt)* }) => {
-        $($callback)*! { $($args)* [
-            Ia => $crate::arith::arith_ia::IaArith,
-            Aa => $crate::arith::arith_aa::AaArith,
-            Raa => $crate::arith::arith_raa::RaaArith,
-            Revaa => $crate::arith::arith_revaa::RevAaArith,
-        ] }
+    ($($request:tt)*) => {
+        $crate::__arith_entries! { ($($request)*)
+            Ia => arith_ia::IaArith,
+            Aa => arith_aa::AaArith,
+            Raa => arith_raa::RaaArith,
+            Revaa => arith_revaa::RevAaArith,
+        }
     };
 }
+
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __arith_entries {
+    ((@crates [$($callback:tt)*]) $($variant:ident => $krate:ident :: $family:ident,)*) => {
+        $($callback)*! { [ $($krate),* ] }
+    };
+    (([$($callback:tt)*] { $($args:tt)* }) $($variant:ident => $krate:ident :: $family:ident,)*) => {
+        $($callback)*! { $($args)* [ $($variant => $crate::arith::$krate::$family,)* ] }
+    };
+}
+
+macro_rules! reexport_crates {
+    ([ $($krate:ident),* ]) => {
+        $(
+            #[doc(no_inline)]
+            pub use $krate;
+        )*
+    };
+}
+arith_list!(@crates [reexport_crates]);
 
 macro_rules! define_kinds {
     ([ $($variant:ident => $family:path),* $(,)? ]) => {

@@ -55,7 +55,17 @@
 #![warn(missing_docs)]
 
 pub mod arith;
-pub use arith::{arith_aa, arith_core, arith_ia, arith_raa, arith_revaa};
+pub use arith::arith_core;
+/// The crates of the one list of arithmetics, at the crate root too (`tracer::arith_ia`).
+macro_rules! reexport_arith_crates {
+    ([ $($krate:ident),* ]) => {
+        $(
+            #[doc(no_inline)]
+            pub use arith::$krate;
+        )*
+    };
+}
+arith_list!(@crates [reexport_arith_crates]);
 pub use glam;
 pub mod camera;
 #[cfg(feature = "cli")]
