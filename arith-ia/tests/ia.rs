@@ -337,22 +337,13 @@ proptest! {
     }
 }
 
-/// Half-lines and the whole line, as `(lo, hi)`: one bound or both infinite.
-fn unbounded_range() -> impl Strategy<Value = (f64, f64)> {
-    prop_oneof![
-        strategies::any_finite().prop_map(|lo| (lo, INF)),
-        strategies::any_finite().prop_map(|hi| (-INF, hi)),
-        Just((-INF, INF)),
-    ]
-}
-
 proptest! {
     #![proptest_config(ProptestConfig { cases: 2000, failure_persistence: None, ..ProptestConfig::default() })]
 
     /// `from_interval(lo, hi)` and `input(i, lo, hi)` of a half-line or the whole line:
     /// exactly `[lo, hi]`, no NaN bound.
     #[test]
-    fn unbounded_inputs_never_give_nan((lo, hi) in unbounded_range(), i in 0usize..4) {
+    fn unbounded_inputs_never_give_nan((lo, hi) in arith_core::testkit::strategies::range_unbounded(), i in 0usize..4) {
         for x in [Interval::from_interval(lo, hi), Interval::input(i, lo, hi)] {
             prop_assert!(!format!("{x:?}").contains("NaN"), "{:?}", x);
             prop_assert_eq!(x.bounds(), (lo, hi));

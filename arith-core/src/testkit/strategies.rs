@@ -146,6 +146,16 @@ pub fn range_exact_box() -> BoxedStrategy<(f64, f64)> {
         .boxed()
 }
 
+/// Half-lines and the whole line, as `(lo, hi)`: one bound or both infinite.
+pub fn range_unbounded() -> BoxedStrategy<(f64, f64)> {
+    prop_oneof![
+        any_finite().prop_map(|lo| (lo, f64::INFINITY)),
+        any_finite().prop_map(|hi| (f64::NEG_INFINITY, hi)),
+        Just((f64::NEG_INFINITY, f64::INFINITY)),
+    ]
+    .boxed()
+}
+
 /// Every kind of input range, weighted towards ordinary ones.
 pub fn range_any() -> BoxedStrategy<(f64, f64)> {
     prop_oneof![
