@@ -126,9 +126,11 @@ impl<const N: usize, K: ReducedKind> Reduced<N, K> {
     }
 
     /// The unary affine operation with the shared approximation `a`: `alpha*x + zeta`,
-    /// `e = delta + |alpha| e_x + rounding errors`.
+    /// `e = delta + |alpha| e_x + rounding errors`. Sound wherever `a` holds for every
+    /// value the form stands for: on the form's own range, or on any range known by
+    /// other means to hold the real value (a carried interval).
     #[inline(always)]
-    fn apply(&self, a: Approx) -> Self {
+    pub fn apply(&self, a: Approx) -> Self {
         if a.is_entire() {
             return Self::UNBOUNDED;
         }

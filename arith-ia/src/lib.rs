@@ -204,19 +204,35 @@ impl Mul for Interval {
         if a.lo == a.hi {
             return b.mul_point(a.lo);
         }
-        let lo = min4(
-            mul_lo(a.lo, b.lo),
-            mul_lo(a.lo, b.hi),
-            mul_lo(a.hi, b.lo),
-            mul_lo(a.hi, b.hi),
-        );
-        let hi = max4(
-            mul_hi(a.lo, b.lo),
-            mul_hi(a.lo, b.hi),
-            mul_hi(a.hi, b.lo),
-            mul_hi(a.hi, b.hi),
-        );
-        Interval::from_dir(lo, hi)
+        // By the signs of the factors, the products that are the exact minimum and
+        // maximum (two of the four, both only when both factors straddle 0). For factors
+        // that are not points none of them is `0 * inf`.
+        let ((l1, l2), (h1, h2)) = if a.lo >= 0.0 {
+            if b.lo >= 0.0 {
+                ((a.lo, b.lo), (a.hi, b.hi))
+            } else if b.hi <= 0.0 {
+                ((a.hi, b.lo), (a.lo, b.hi))
+            } else {
+                ((a.hi, b.lo), (a.hi, b.hi))
+            }
+        } else if a.hi <= 0.0 {
+            if b.lo >= 0.0 {
+                ((a.lo, b.hi), (a.hi, b.lo))
+            } else if b.hi <= 0.0 {
+                ((a.hi, b.hi), (a.lo, b.lo))
+            } else {
+                ((a.lo, b.hi), (a.lo, b.lo))
+            }
+        } else if b.lo >= 0.0 {
+            ((a.lo, b.hi), (a.hi, b.hi))
+        } else if b.hi <= 0.0 {
+            ((a.hi, b.lo), (a.lo, b.lo))
+        } else {
+            let lo = mul_lo(a.lo, b.hi).min(mul_lo(a.hi, b.lo));
+            let hi = mul_hi(a.lo, b.lo).max(mul_hi(a.hi, b.hi));
+            return Interval::from_dir(lo, hi);
+        };
+        Interval::from_dir(mul_lo(l1, l2), mul_hi(h1, h2))
     }
 }
 

@@ -350,3 +350,40 @@ proptest! {
         }
     }
 }
+
+/// The product picks two of the four endpoint products by the factors' signs; it is
+/// never wider than the hull of all four, rounded the same way, infinite bounds and
+/// zeros included.
+#[test]
+fn product_by_signs_is_never_wider_than_the_four_products() {
+    use arith_core::round::{mul_hi, mul_lo};
+    let bound = prop_oneof![
+        4 => -8.0..8.0f64,
+        1 => Just(0.0),
+        1 => Just(-0.0),
+        1 => Just(INF),
+        1 => Just(-INF),
+    ];
+    let s = (bound.clone(), bound.clone(), bound.clone(), bound);
+    arith_core::testkit::checks::run("ia mul by signs", 4000, s, |(a, b, c, d)| {
+        let (x, y) = (iv(a, b), iv(c, d));
+        let p = x * y;
+        let ends = [(x.lo, y.lo), (x.lo, y.hi), (x.hi, y.lo), (x.hi, y.hi)];
+        let lo = ends
+            .map(|(u, v)| mul_lo(u, v))
+            .into_iter()
+            .filter(|v| !v.is_nan())
+            .fold(INF, f64::min);
+        let hi = ends
+            .map(|(u, v)| mul_hi(u, v))
+            .into_iter()
+            .filter(|v| !v.is_nan())
+            .fold(-INF, f64::max);
+        prop_assert!(!p.lo.is_nan() && !p.hi.is_nan(), "{x:?} * {y:?} = {p:?}");
+        prop_assert!(
+            lo <= p.lo && p.hi <= hi,
+            "{x:?} * {y:?} = {p:?}, four give [{lo}, {hi}]"
+        );
+        Ok(())
+    });
+}

@@ -6,6 +6,8 @@
 //! - [`table1`]: the paper's Table 1 regenerated.
 //! - [`tightness`]: computed range width over sampled true width.
 //! - [`progressive`]: the progressive-refinement paper's Table 1 and Fig. 9.
+//! - [`formulas`]: random formulas over random boxes, each arithmetic against intervals
+//!   and revised affine forms.
 //! - [`scaling`]: cost as the resolution doubles, with and without culling.
 //! - [`rng`]: a small reproducible generator for sampling.
 
@@ -13,6 +15,7 @@
 #![warn(missing_docs)]
 pub mod chart;
 pub mod counter;
+pub mod formulas;
 pub mod paper;
 pub mod progressive;
 pub mod scaling;

@@ -6,9 +6,10 @@
 //! bench-suite tightness [--models a,b] [--arith ...] [--samples N] [--out DIR]
 //! bench-suite scaling [--models a,b] [--arith revaa] [--base-scale F] [--steps N] [--out DIR]
 //! bench-suite progressive [--size N] [--models a,b] [--layers L] [--out DIR]
+//! bench-suite formulas [--formulas N] [--depth D] [--seed S] [--arith ...] [--out DIR]
 //! ```
 
-use bench_suite::{progressive, scaling, table1, tightness};
+use bench_suite::{formulas, progressive, scaling, table1, tightness};
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -64,6 +65,24 @@ enum Cmd {
         /// Random cells and segments per model and size.
         #[arg(long, default_value_t = 100)]
         samples: usize,
+        #[arg(long, default_value = "bench-out")]
+        out: PathBuf,
+    },
+    /// Random formulas over random boxes: how often each arithmetic is wider than
+    /// intervals or revised affine forms, or unbounded where intervals are bounded.
+    Formulas {
+        /// Number of formulas (one random box each).
+        #[arg(long, default_value_t = formulas::Settings::default().formulas)]
+        formulas: usize,
+        /// Nesting depth of the generated formulas.
+        #[arg(long, default_value_t = formulas::Settings::default().depth)]
+        depth: u32,
+        /// Seed of the generator.
+        #[arg(long, default_value_t = formulas::Settings::default().seed)]
+        seed: u64,
+        /// Comma-separated arithmetics (default: all of them).
+        #[arg(long)]
+        arith: Option<String>,
         #[arg(long, default_value = "bench-out")]
         out: PathBuf,
     },
@@ -159,6 +178,30 @@ fn run(cli: Cli) -> Result<(), String> {
                 eprintln!("!!! {} hit-mask disagreement(s), see above", dis.len());
             }
             Ok(())
+        }
+        Cmd::Formulas {
+            formulas: n,
+            depth,
+            seed,
+            arith,
+            out,
+        } => {
+            let kinds = match arith {
+                Some(a) => table1::parse_kinds(&a)?,
+                None => tracer::arith::ArithKind::ALL.to_vec(),
+            };
+            if n == 0 {
+                return Err("--formulas must be at least 1".into());
+            }
+            let s = formulas::Settings {
+                formulas: n,
+                depth,
+                seed,
+            };
+            let (rows, examples) = formulas::study(&kinds, &s);
+            let md = formulas::report(&rows, &examples, &s);
+            tracer::out!("{md}");
+            write_out(&out, "formulas.md", &md)
         }
         Cmd::Tightness {
             models,

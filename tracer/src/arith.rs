@@ -24,6 +24,7 @@ macro_rules! arith_list {
             Aa => arith_aa::AaArith,
             Raa => arith_raa::RaaArith,
             Revaa => arith_revaa::RevAaArith,
+            Hull => arith_hull::HullArith,
         }
     };
 }

@@ -228,7 +228,7 @@ fn range_json_encloses_the_function() {
     ]);
     assert!(out.status.success());
     let s = String::from_utf8_lossy(&out.stdout);
-    for a in ["ia", "aa", "raa", "revaa"] {
+    for a in tracer::arith::ArithKind::ALL.map(|k| k.name()) {
         assert!(s.contains(&format!("\"arith\": \"{a}\"")), "{s}");
     }
     // Every bound pair must enclose the true range [-2, 1].
@@ -236,7 +236,7 @@ fn range_json_encloses_the_function() {
         .split(|c: char| !(c.is_ascii_digit() || c == '.' || c == '-' || c == 'e'))
         .filter_map(|t| t.parse().ok())
         .collect();
-    assert_eq!(nums.len(), 8, "{s}");
+    assert_eq!(nums.len(), 2 * tracer::arith::ArithKind::COUNT, "{s}");
     for p in nums.chunks(2) {
         assert!(p[0] <= -2.0 && p[1] >= 1.0, "{p:?} in {s}");
     }

@@ -231,7 +231,14 @@ pub fn markdown(r: &Report) -> String {
     );
     let mut head = String::from("| Model | Paper resolution |");
     let mut rule = String::from("|---|---|");
-    for k in &r.kinds {
+    // Only the arithmetics the paper has a column for.
+    let paper_kinds: Vec<ArithKind> = r
+        .kinds
+        .iter()
+        .copied()
+        .filter(|k| paper::PAPER_COLUMNS.contains(&k.name()))
+        .collect();
+    for k in &paper_kinds {
         let _ = write!(
             head,
             " {} paper s | {} speed-up wall / CPU |",
@@ -246,7 +253,7 @@ pub fn markdown(r: &Report) -> String {
             continue;
         };
         let _ = write!(s, "| {} | {}x{} |", p.label, p.width, p.height);
-        for k in &r.kinds {
+        for k in &paper_kinds {
             let sp = match (row.speedup(*k), row.cell(*k)) {
                 (Some(x), Some(c)) if c.stopped => format!("< {x:.0}x"),
                 (Some(x), _) if x >= 10.0 => format!("{x:.0}x"),
