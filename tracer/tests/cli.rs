@@ -159,7 +159,7 @@ fn bad_formulas() {
 
 #[test]
 fn model_and_expr_together_or_neither() {
-    assert_user_error(&["render", "csg", "--expr", "x"], "either");
+    assert_user_error(&["render", "csg", "--expr", "x"], "not several");
     assert_user_error(&["render"], "MODEL");
 }
 

@@ -25,6 +25,7 @@ fn view() -> View {
         look_at: DVec3::new(0.05, -0.03, 0.0),
         up: DVec3::Y,
         fov_deg: 40.0,
+        ortho: None,
     }
 }
 
