@@ -187,7 +187,7 @@ fn renders_agree_with_each_other_and_the_analytic_solid() {
                     // Every analytic hit is found; clear misses are misses (a ray that
                     // grazes an edge of the notch within the precision may report a
                     // root there, soundly).
-                    if margin > 1e-9 || margin < -1e-3 {
+                    if !(-1e-3..=1e-9).contains(&margin) {
                         let want = margin > 0.0;
                         assert_eq!(rust.hit[idx], want, "rust {tag}");
                         assert_eq!(rf.hit[idx], want, "formula {tag}");
