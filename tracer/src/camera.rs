@@ -1,4 +1,4 @@
-//! Pinhole camera with an exact pixel-centre formula.
+//! Pinhole and orthographic cameras with exact pixel-centre formulas.
 //!
 //! Pixel column `i` counts from the left, row `j` from the top. For continuous pixel
 //! coordinates `(px, py)` (pixel `(i, j)` covers `[i, i+1) x [j, j+1)`, its centre is
@@ -10,6 +10,18 @@
 //! dir = normalize(forward + dx * right + dy * up')
 //! forward = normalize(look_at - eye), right = normalize(forward x up), up' = right x forward
 //! ```
+//!
+//! An orthographic view ([`View::ortho`] `= Some(width)`, `width` model units across the
+//! image, `width * H / W` up it) has parallel rays starting on the image plane through
+//! the eye:
+//!
+//! ```text
+//! origin = eye + (2 px / W - 1) * width/2 * right + (1 - 2 py / H) * width/2 * H/W * up'
+//! dir    = forward
+//! ```
+//!
+//! so a ray's parameter is its distance from the image plane, and nothing behind that
+//! plane is seen.
 
 use crate::shape::{check_domain, Aabb, View};
 use glam::DVec3;
@@ -31,6 +43,9 @@ pub struct Camera {
     pub height: u32,
     /// `tan(fov/2)`.
     pub tan_half: f64,
+    /// Orthographic: the view's width in model units ([`View::ortho`]); `None` for a
+    /// pinhole.
+    pub ortho: Option<f64>,
 }
 
 impl Camera {
@@ -50,6 +65,7 @@ impl Camera {
             width,
             height,
             tan_half: (view.fov_deg.to_radians() * 0.5).tan(),
+            ortho: view.ortho,
         }
     }
 
@@ -61,7 +77,16 @@ impl Camera {
     /// the set-up overflow or underflow.
     pub fn try_new(view: View, width: u32, height: u32) -> Result<Self, String> {
         check_size(width, height)?;
-        if !(view.fov_deg > 0.0 && view.fov_deg < 180.0) {
+        if let Some(w) = view.ortho {
+            // The image plane's half extents and the origins on it must be finite.
+            let half = 0.5 * w * (1.0f64).max(height as f64 / width as f64);
+            let reach = view.eye.abs().max_element() + half;
+            if !(w > 0.0 && w.is_finite() && reach.is_finite()) {
+                return Err(format!(
+                    "orthographic view width {w} is not a positive number small enough to                      place the image plane"
+                ));
+            }
+        } else if !(view.fov_deg > 0.0 && view.fov_deg < 180.0) {
             return Err(format!(
                 "field of view {} is not in (0, 180) degrees",
                 view.fov_deg
@@ -74,8 +99,12 @@ impl Camera {
     /// The un-normalised direction `forward + dx*right + dy*up'` through continuous pixel
     /// coordinates `(px, py)`. Its component along `forward` is exactly 1 (up to rounding),
     /// which [`crate::search::cull`] uses: distance along `forward` parametrises a bundle.
+    /// Orthographic: `forward` for every pixel.
     #[inline]
     pub fn raw_dir(&self, px: f64, py: f64) -> DVec3 {
+        if self.ortho.is_some() {
+            return self.forward;
+        }
         let w = self.width as f64;
         let h = self.height as f64;
         let dx = (2.0 * px / w - 1.0) * self.tan_half * (w / h);
@@ -83,10 +112,28 @@ impl Camera {
         self.forward + self.right * dx + self.up * dy
     }
 
+    /// Where the ray through continuous pixel coordinates `(px, py)` starts: the eye of
+    /// a pinhole, the point of the image plane of an orthographic view (affine in
+    /// `(px, py)`, which [`crate::search::cull`] uses).
+    #[inline]
+    pub fn origin_at(&self, px: f64, py: f64) -> DVec3 {
+        match self.ortho {
+            None => self.eye,
+            Some(width) => {
+                let (w, h) = (self.width as f64, self.height as f64);
+                let hw = 0.5 * width;
+                let hh = hw * (h / w);
+                let dx = (2.0 * px / w - 1.0) * hw;
+                let dy = (1.0 - 2.0 * py / h) * hh;
+                self.eye + self.right * dx + self.up * dy
+            }
+        }
+    }
+
     /// The ray through continuous pixel coordinates: `(origin, normalised direction)`.
     #[inline]
     pub fn ray_at(&self, px: f64, py: f64) -> (DVec3, DVec3) {
-        (self.eye, self.raw_dir(px, py).normalize())
+        (self.origin_at(px, py), self.raw_dir(px, py).normalize())
     }
 
     /// The ray through the centre of pixel `(i, j)`: `(origin, normalised direction)`.
@@ -120,9 +167,19 @@ impl Camera {
     }
 
     /// Angular size of one pixel (vertical), in radians-ish units of the image plane at
-    /// distance 1: the footprint of a pixel at distance `t` is about `t * pixel_angle()`.
+    /// distance 1: the footprint of a pixel at distance `t` is about `t * pixel_angle()`
+    /// (0 for an orthographic view, whose footprint is [`Camera::pixel_size`]).
     pub fn pixel_angle(&self) -> f64 {
+        if self.ortho.is_some() {
+            return 0.0;
+        }
         2.0 * self.tan_half / self.height as f64
+    }
+
+    /// The side of a pixel's footprint in model units at every distance, for an
+    /// orthographic view; 0 for a pinhole (see [`Camera::pixel_angle`]).
+    pub fn pixel_size(&self) -> f64 {
+        self.ortho.map_or(0.0, |w| w / self.width as f64)
     }
 }
 
@@ -214,6 +271,7 @@ pub fn frame_box(domain: &Aabb) -> Result<View, String> {
         look_at: c,
         up: DVec3::Y,
         fov_deg: fov,
+        ortho: None,
     };
     if !(c.is_finite() && dist.is_finite()) || check_view(&view).is_err() {
         return Err(
@@ -233,6 +291,7 @@ mod tests {
             look_at: DVec3::ZERO,
             up: DVec3::Y,
             fov_deg: 90.0,
+            ortho: None,
         }
     }
 
@@ -262,6 +321,7 @@ mod tests {
             look_at: DVec3::new(-0.2, 0.4, 0.1),
             up: DVec3::new(0.1, 1.0, 0.3),
             fov_deg: 37.0,
+            ortho: None,
         };
         let bits = |v: DVec3| v.to_array().map(f64::to_bits);
         let mut checked = 0;

@@ -39,6 +39,7 @@
 //!     look_at: DVec3::ZERO,
 //!     up: DVec3::Y,
 //!     fov_deg: 45.0,
+//!     ortho: None,
 //! };
 //! let opts = RenderOptions::for_view(view, Aabb::cube(1.5), 64, 48);
 //! let image = render_kind(ArithKind::Revaa, &Torus, &opts)?;

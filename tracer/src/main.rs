@@ -10,7 +10,7 @@ use clap::{CommandFactory, Parser, Subcommand};
 use std::path::PathBuf;
 use std::process::ExitCode;
 use tracer::arith::ArithKind;
-use tracer::cli::{model_source, parse_positive, parse_size, parse_vec3};
+use tracer::cli::{model_source, parse_ortho, parse_positive, parse_size, parse_vec3, ModelArgs};
 use tracer::render::output::{check_outputs, write_depth, write_png};
 use tracer::render::{render_kind, RenderOptions};
 use tracer::shape::{Aabb, Shape};
@@ -50,13 +50,8 @@ enum Cmd {
 
 #[derive(clap::Args, Debug)]
 struct RenderArgs {
-    /// Model name (see `tracer list`); or give --expr.
-    model: Option<String>,
-    /// A formula over x, y, z (f >= 0 inside), e.g. "1 - x^2 - y^2 - z^2"; its domain
-    /// defaults to [-2, 2]^3 (see --domain), its view frames the domain. The language is
-    /// listed at the end of `--help`.
-    #[arg(long, allow_hyphen_values = true)]
-    expr: Option<String>,
+    #[command(flatten)]
+    src: ModelArgs,
     /// Arithmetic.
     #[arg(long, default_value = "revaa", help = arith_help(false))]
     arith: String,
@@ -81,6 +76,11 @@ struct RenderArgs {
     /// Vertical field of view in degrees.
     #[arg(long, allow_hyphen_values = true)]
     fov: Option<String>,
+    /// Orthographic camera WIDTH model units across the image (parallel rays along the
+    /// view direction, starting on the image plane through the eye) instead of the
+    /// pinhole; --fov is then unused.
+    #[arg(long, allow_hyphen_values = true, value_name = "WIDTH")]
+    ortho: Option<String>,
     /// Domain box XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX.
     #[arg(long, allow_hyphen_values = true)]
     domain: Option<String>,
@@ -119,11 +119,8 @@ fn arith_help(all: bool) -> String {
 
 #[derive(clap::Args, Debug)]
 struct RangeArgs {
-    /// Model name (see `tracer list`); or give --expr.
-    model: Option<String>,
-    /// A formula over x, y, z (the language is listed at the end of `--help`).
-    #[arg(long, allow_hyphen_values = true)]
-    expr: Option<String>,
+    #[command(flatten)]
+    src: ModelArgs,
     /// The box XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX (default: the model's domain; [-2, 2]^3 for
     /// a formula).
     #[arg(long = "box", allow_hyphen_values = true)]
@@ -172,11 +169,7 @@ fn cmd_render(a: &RenderArgs) -> Result<(), String> {
         s => return Err(format!("--stats '{s}': expected text or json")),
     };
     tracer::cli::set_threads(a.threads.as_deref())?;
-    let model = model_source(
-        a.model.as_deref(),
-        a.expr.as_deref(),
-        a.domain.as_deref().map(|d| ("--domain", d)),
-    )?;
+    let model = model_source(&a.src, a.domain.as_deref().map(|d| ("--domain", d)))?;
     let (name, domain, mut view) = (model.name.clone(), model.domain, model.view);
     if let Some(s) = &a.eye {
         view.eye = parse_vec3("--eye", s)?;
@@ -193,6 +186,9 @@ fn cmd_render(a: &RenderArgs) -> Result<(), String> {
             return Err(format!("--fov '{s}': must be below 180 degrees"));
         }
         view.fov_deg = f;
+    }
+    if let Some(s) = &a.ortho {
+        view.ortho = Some(parse_ortho(s)?);
     }
     tracer::camera::Camera::try_new(view, width, height).map_err(|e| format!("camera: {e}"))?;
     let eps = a
@@ -331,11 +327,7 @@ fn json_num(v: f64) -> String {
 }
 
 fn cmd_range(a: &RangeArgs) -> Result<(), String> {
-    let model = model_source(
-        a.model.as_deref(),
-        a.expr.as_deref(),
-        a.bbox.as_deref().map(|b| ("--box", b)),
-    )?;
+    let model = model_source(&a.src, a.bbox.as_deref().map(|b| ("--box", b)))?;
     let b = model.domain;
     let kinds: Vec<ArithKind> = if a.arith.eq_ignore_ascii_case("all") {
         ArithKind::ALL.to_vec()
@@ -382,6 +374,11 @@ fn cmd_list() {
         let d = m.domain;
         tracer::out!("{}", m.name);
         tracer::out!("    {}", m.description);
+        match m.shape.formula() {
+            // One line: bindings separated by '; ' (as --expr takes them).
+            Some(f) => tracer::out!("    formula {}", f.replace('\n', " ")),
+            None => tracer::out!("    formula (none: uses noise, which formulas lack)"),
+        }
         tracer::out!(
             "    domain {},{},{},{},{},{}",
             d.min.x,

@@ -62,7 +62,8 @@ pub fn check_domain(b: &Aabb) -> Result<(), String> {
     Ok(())
 }
 
-/// A pinhole camera placement (see [`crate::camera`] for the ray formula).
+/// A camera placement: a pinhole, or orthographic with `ortho` (see [`crate::camera`]
+/// for the ray formulas).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct View {
     /// Eye position.
@@ -71,6 +72,10 @@ pub struct View {
     pub look_at: DVec3,
     /// Up direction (need not be orthogonal to the viewing direction).
     pub up: DVec3,
-    /// Vertical field of view in degrees.
+    /// Vertical field of view in degrees (of a pinhole view; unused with `ortho`).
     pub fov_deg: f64,
+    /// `Some(width)`: an orthographic view `width` model units across the image, its
+    /// rays parallel to the viewing direction, starting on the image plane through the
+    /// eye; `None`: a pinhole at the eye.
+    pub ortho: Option<f64>,
 }

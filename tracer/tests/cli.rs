@@ -159,7 +159,7 @@ fn bad_formulas() {
 
 #[test]
 fn model_and_expr_together_or_neither() {
-    assert_user_error(&["render", "csg", "--expr", "x"], "either");
+    assert_user_error(&["render", "csg", "--expr", "x"], "not several");
     assert_user_error(&["render"], "MODEL");
 }
 
@@ -825,4 +825,124 @@ fn preview_paths_are_checked_first() {
         &["--snapshots", dir.to_str().unwrap(), "--stop-after", "0.1"],
         "--headless",
     );
+}
+
+#[test]
+fn model_files_stdin_and_formats() {
+    let f = tmp("notch.expr");
+    std::fs::write(
+        &f,
+        "# domain: -1.2,-1.2,-1.2,1.2,1.2,1.2\n1 - x^2 - y^2 - z^2\n",
+    )
+    .unwrap();
+    let fs = f.to_str().unwrap();
+    let png = tmp("notch.png");
+    let out = tracer(&[
+        "render",
+        fs,
+        "--size",
+        "24x16",
+        "-q",
+        "--out",
+        png.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let out = tracer(&[
+        "render",
+        fs,
+        "--size",
+        "24x16",
+        "-q",
+        "--ortho",
+        "2.5",
+        "--out",
+        png.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    // --expr-file and MODEL give the same ranges; `-` reads standard input.
+    let a = tracer(&["range", "--expr-file", fs, "--box", "0,0,0,1,1,1"]);
+    let b = tracer(&["range", fs, "--box", "0,0,0,1,1,1"]);
+    assert!(a.status.success() && a.stdout == b.stdout);
+    use std::io::Write as _;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_tracer"))
+        .args(["range", "-", "--box", "0,0,0,1,1,1"])
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(b"1 - x^2 - y^2 - z^2\n")
+        .unwrap();
+    let c = child.wait_with_output().unwrap();
+    assert!(c.status.success() && c.stdout == a.stdout);
+    // Errors: one line, exit 2, naming the argument and the path or position.
+    assert_user_error(
+        &["render", "/no/such/file.expr"],
+        "MODEL '/no/such/file.expr'",
+    );
+    assert_user_error(
+        &["range", "--expr-file", "/no/such.expr"],
+        "--expr-file '/no/such.expr'",
+    );
+    assert_user_error(&["render", "model.txt"], "--format");
+    assert_user_error(&["render", fs, "--format", "obj"], "--format");
+    assert_user_error(
+        &["render", fs, "--format", "hf"],
+        "HyperFun support is not built",
+    );
+    let bad = tmp("bad.vm");
+    std::fs::write(&bad, "a var-x\nb tan a\n").unwrap();
+    assert_user_error(
+        &["range", bad.to_str().unwrap()],
+        "bad.vm:2:3: fidget opcode 'tan'",
+    );
+    assert_user_error(&["render", fs, "--ortho", "-1"], "--ortho");
+}
+
+/// Each formula `tracer list` prints is accepted by `--expr` and is the built-in model:
+/// the same interval ranges over boxes (the same operations in the same order); blobby's
+/// range code skips blobs that cannot matter, so it is only parsed.
+#[test]
+fn listed_formulas_are_the_models() {
+    let out = tracer(&["list"]);
+    let text = String::from_utf8(out.stdout).unwrap();
+    let mut name = "";
+    let mut n = 0;
+    for line in text.lines() {
+        if !line.starts_with(' ') {
+            name = line.trim();
+            continue;
+        }
+        let Some(f) = line.trim().strip_prefix("formula ") else {
+            continue;
+        };
+        if f.starts_with("(none") {
+            continue;
+        }
+        n += 1;
+        for b in ["0.1,0.2,0.3,0.4,0.5,0.6", "-1,-0.5,-0.25,0.5,0.75,0.125"] {
+            let e = tracer(&["range", "--expr", f, "--box", b, "--arith", "ia"]);
+            assert!(
+                e.status.success(),
+                "{name}: {}",
+                String::from_utf8_lossy(&e.stderr)
+            );
+            if name != "blobby" {
+                let m = tracer(&["range", name, "--box", b, "--arith", "ia"]);
+                assert_eq!(e.stdout, m.stdout, "{name} over {b}");
+            }
+        }
+    }
+    assert_eq!(n, 11);
 }

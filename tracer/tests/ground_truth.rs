@@ -7,6 +7,8 @@
 //! itself may or may not touch the surface, so no answer can be called wrong. The other
 //! direction: every reported hit point lies within a small distance of the surface, and
 //! where the analytic ray crosses the surface cleanly, the depth is within the precision.
+//! Both for a pinhole and for an orthographic view, whose masks are also checked against
+//! the analytic disc and square of parallel rays.
 
 use arith_core::Real;
 use glam::DVec3;
@@ -25,6 +27,15 @@ fn view() -> View {
         look_at: DVec3::new(0.05, -0.03, 0.0),
         up: DVec3::Y,
         fov_deg: 40.0,
+        ortho: None,
+    }
+}
+
+/// An oblique orthographic view 2.7 units across.
+fn ortho_view() -> View {
+    View {
+        ortho: Some(2.7),
+        ..view()
     }
 }
 
@@ -110,12 +121,13 @@ fn configs() -> Vec<(ArithKind, bool, bool)> {
 
 fn render<S: Shape>(
     shape: &S,
+    view: View,
     k: ArithKind,
     culling: bool,
     pruning: bool,
     eps: Option<f64>,
 ) -> RenderResult {
-    let mut o = RenderOptions::for_view(view(), domain(), W, H);
+    let mut o = RenderOptions::for_view(view, domain(), W, H);
     o.culling = culling;
     o.pruning = pruning;
     o.eps = eps;
@@ -124,8 +136,10 @@ fn render<S: Shape>(
 
 /// Checks one shape against its analytic intersection `analytic(o, d) -> (margin, t)`
 /// (hit iff margin >= 0) and its exact distance-to-surface `dist(p)`.
+#[allow(clippy::too_many_arguments)]
 fn check<S: Shape>(
     name: &str,
+    view: View,
     shape: &S,
     eps: Option<f64>,
     analytic: impl Fn(DVec3, DVec3) -> (f64, f64),
@@ -133,10 +147,10 @@ fn check<S: Shape>(
     dist_tol: f64,
     depth_check: bool,
 ) {
-    let cam = Camera::new(view(), W, H);
+    let cam = Camera::new(view, W, H);
     for (k, culling, pruning) in configs() {
-        let r = render(shape, k, culling, pruning, eps);
-        let prec = RenderOptions::for_view(view(), domain(), W, H);
+        let r = render(shape, view, k, culling, pruning, eps);
+        let prec = RenderOptions::for_view(view, domain(), W, H);
         let prec = RenderOptions { eps, ..prec }.precision(&cam);
         let mut analytic_hits = 0;
         for j in 0..H {
@@ -186,15 +200,18 @@ fn check<S: Shape>(
 fn sphere_matches_analytic_mask_and_depth() {
     // Explicit precision 1e-4; hit points within 1e-3 of the sphere (a false hit needs
     // |f| below the range's overestimate on a 1e-4 segment, ~1e-4 for these slopes).
-    check(
-        "sphere",
-        &Ball,
-        Some(1e-4),
-        |o, d| sphere_hit(o, d, R0),
-        |p| (p.length() - R0).abs(),
-        1e-3,
-        true,
-    );
+    for (name, v) in [("sphere", view()), ("ortho sphere", ortho_view())] {
+        check(
+            name,
+            v,
+            &Ball,
+            Some(1e-4),
+            |o, d| sphere_hit(o, d, R0),
+            |p| (p.length() - R0).abs(),
+            1e-3,
+            true,
+        );
+    }
 }
 
 #[test]
@@ -206,15 +223,18 @@ fn box_csg_matches_analytic_mask_and_depth() {
         let inside = q.max_element().min(0.0);
         (outside + inside).abs()
     };
-    check(
-        "box",
-        &RBox,
-        Some(1e-4),
-        |o, d| box_hit(o, d, B),
-        dist,
-        1e-3,
-        true,
-    );
+    for (name, v) in [("box", view()), ("ortho box", ortho_view())] {
+        check(
+            name,
+            v,
+            &RBox,
+            Some(1e-4),
+            |o, d| box_hit(o, d, B),
+            dist,
+            1e-3,
+            true,
+        );
+    }
 }
 
 #[test]
@@ -225,6 +245,7 @@ fn thin_shell_is_hit_wherever_the_ray_meets_it() {
     let outer = (1.0 + SHELL).sqrt();
     check(
         "shell",
+        view(),
         &Shell,
         None,
         |o, d| sphere_hit(o, d, outer),
@@ -241,6 +262,7 @@ fn tangent_touch_is_hit_wherever_the_ray_meets_it() {
     // the reported point must lie within 0.02 of the sphere.
     check(
         "touch",
+        view(),
         &Touch,
         None,
         |o, d| sphere_hit(o, d, 1.0),
@@ -248,4 +270,67 @@ fn tangent_touch_is_hit_wherever_the_ray_meets_it() {
         0.02,
         false,
     );
+}
+
+/// Straight orthographic views along an axis: the hit mask is exactly the disc (sphere)
+/// or square (box) that the pixel centres' parallel rays meet, and the depth from the
+/// image plane is `3 - sqrt(1 - u^2 - v^2)` (sphere) or `3 - 0.6` (box), for every
+/// arithmetic with and without culling. Pixels whose centre is within 1e-9 of the
+/// outline are left out (the f64 ray may or may not graze it).
+#[test]
+fn straight_ortho_views_give_the_analytic_disc_and_square() {
+    let width = 3.0;
+    let v = View {
+        eye: DVec3::new(0.0, 0.0, 3.0),
+        look_at: DVec3::ZERO,
+        up: DVec3::Y,
+        fov_deg: 40.0,
+        ortho: Some(width),
+    };
+    let (w, h) = (40u32, 30u32);
+    // Pixel centre (i, j) on the image plane: u to the right (+x), v up (+y).
+    let uv = |i: u32, j: u32| {
+        let px = width / w as f64;
+        (
+            (i as f64 + 0.5) * px - 0.5 * width,
+            0.5 * width * h as f64 / w as f64 - (j as f64 + 0.5) * px,
+        )
+    };
+    for k in ArithKind::ALL {
+        for culling in [false, true] {
+            let mut o = RenderOptions::for_view(v, domain(), w, h);
+            o.culling = culling;
+            o.eps = Some(1e-4);
+            let ball = render_kind(k, &Ball, &o).unwrap();
+            let cube = render_kind(k, &RBox, &o).unwrap();
+            let (mut discs, mut squares) = (0, 0);
+            for j in 0..h {
+                for i in 0..w {
+                    let idx = (j * w + i) as usize;
+                    let (u, vv) = uv(i, j);
+                    let tag = format!("{k} culling={culling} pixel ({i},{j})");
+                    let q = 1.0 - u * u - vv * vv;
+                    if q.abs() > 1e-9 {
+                        assert_eq!(ball.hit[idx], q > 0.0, "sphere {tag}");
+                    }
+                    if q > 1e-2 && k != ArithKind::Ia {
+                        discs += 1;
+                        let t = ball.depth[idx] as f64;
+                        let t_true = 3.0 - q.sqrt();
+                        assert!((t - t_true).abs() < 1e-3, "sphere {tag}: {t} vs {t_true}");
+                    }
+                    let m = B - u.abs().max(vv.abs());
+                    if m.abs() > 1e-9 {
+                        assert_eq!(cube.hit[idx], m > 0.0, "box {tag}");
+                    }
+                    if m > 1e-2 && k != ArithKind::Ia {
+                        squares += 1;
+                        let t = cube.depth[idx] as f64;
+                        assert!((t - (3.0 - B)).abs() < 1e-3, "box {tag}: {t}");
+                    }
+                }
+            }
+            assert!(k == ArithKind::Ia || (discs > 300 && squares > 150));
+        }
+    }
 }

@@ -2,6 +2,7 @@
 
 use glam::DVec3;
 use tracer::cli::preview::{run_preview, PreviewArgs};
+use tracer::cli::ModelArgs;
 use tracer::models::progressive::GmModel;
 use tracer::models::Model;
 use tracer::progressive::*;
@@ -335,10 +336,13 @@ fn headless_preview_writes_a_snapshot_per_level() {
     let dir = std::env::temp_dir().join(format!("tracer-preview-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     let args = PreviewArgs {
-        model: Some("mitchell-gm".into()),
-        expr: None,
+        src: ModelArgs {
+            model: Some("mitchell-gm".into()),
+            ..ModelArgs::default()
+        },
         domain: None,
         size: None,
+        ortho: None,
         threads: None,
         width: 24,
         height: 16,
@@ -363,7 +367,10 @@ fn headless_preview_writes_a_snapshot_per_level() {
     let out = image::open(dir.join("out.png")).unwrap();
     assert_eq!((out.width(), out.height()), (24, 16));
     let bad = PreviewArgs {
-        model: Some("no-such-model".into()),
+        src: ModelArgs {
+            model: Some("no-such-model".into()),
+            ..ModelArgs::default()
+        },
         ..args.clone()
     };
     assert!(run_preview(&bad).is_err());

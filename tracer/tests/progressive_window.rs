@@ -4,6 +4,7 @@
 use std::process::{Command, Stdio};
 use std::time::Duration;
 use tracer::cli::preview::{run_preview, PreviewArgs};
+use tracer::cli::ModelArgs;
 
 fn have_xvfb() -> bool {
     Command::new("sh")
@@ -50,10 +51,13 @@ fn window_refines_for_a_second_then_stops_and_writes_the_image() {
     std::fs::create_dir_all(&dir).unwrap();
     let out = dir.join("stopped.png");
     let args = PreviewArgs {
-        model: Some("hypertexture-5".into()),
-        expr: None,
+        src: ModelArgs {
+            model: Some("hypertexture-5".into()),
+            ..ModelArgs::default()
+        },
         domain: None,
         size: None,
+        ortho: None,
         threads: None,
         width: 200,
         height: 160,

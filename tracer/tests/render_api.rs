@@ -26,6 +26,7 @@ fn opts() -> RenderOptions {
         look_at: DVec3::new(0.0, 0.2, 0.0),
         up: DVec3::Y,
         fov_deg: 45.0,
+        ortho: None,
     };
     let domain = Aabb::new(DVec3::new(-2.0, -0.5, -2.0), DVec3::new(2.0, 1.5, 2.0));
     let mut o = RenderOptions::for_view(view, domain, 64, 48);

@@ -38,6 +38,7 @@ pub fn ball_hits(kind: ArithKind, w: u32, h: u32) -> Result<usize, String> {
         look_at: DVec3::ZERO,
         up: DVec3::Y,
         fov_deg: 40.0,
+        ortho: None,
     };
     let opts = RenderOptions::for_view(view, Aabb::cube(1.5), w, h);
     let res = render_kind(kind, &Ball, &opts)?;

@@ -14,39 +14,104 @@ use std::io::IsTerminal;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-/// The model that `MODEL`, `--expr` and a domain flag (`(flag, value)`: `--domain`,
-/// `--box`) select, from the one registry ([`crate::models`]): a built-in name or a
-/// formula (domain `[-2, 2]^3` unless the flag gives one, framed by
-/// [`crate::camera::frame_box`]).
-pub fn model_source(
-    name: Option<&str>,
-    expr: Option<&str>,
-    domain: Option<(&str, &str)>,
-) -> Result<Model, String> {
+/// The flags that choose a model, shared by `render`, `range` and `preview`.
+#[derive(clap::Args, Debug, Clone, Default)]
+pub struct ModelArgs {
+    /// The model: a built-in name (see `tracer list`), a model file (`.expr` formula,
+    /// `.vm` fidget tape, `.hf` HyperFun; see --format), or `-` for a formula on
+    /// standard input. Or give --expr or --expr-file.
+    pub model: Option<String>,
+    /// A formula over x, y, z (f >= 0 inside), e.g. "1 - x^2 - y^2 - z^2"; its domain
+    /// defaults to [-2, 2]^3, its view frames the domain. The language is listed at the
+    /// end of `--help`.
+    #[arg(long, allow_hyphen_values = true)]
+    pub expr: Option<String>,
+    /// A formula file (the language of --expr, with optional `# domain:` and `# view:`
+    /// header lines); `-` reads standard input. The same as MODEL with --format expr.
+    #[arg(long, allow_hyphen_values = true)]
+    pub expr_file: Option<String>,
+    /// The model file's format: expr (formula), vm (fidget SSA tape; fidget's f < 0
+    /// inside is negated to ours, f >= 0 inside) or hf (HyperFun). Default: from the
+    /// file's extension (.expr, .vm, .hf); expr for `-`.
+    #[arg(long, allow_hyphen_values = true)]
+    pub format: Option<String>,
+}
+
+impl ModelArgs {
+    /// What names the model, for a window title: the name or path, or the formula.
+    pub fn title(&self) -> &str {
+        self.model
+            .as_deref()
+            .or(self.expr_file.as_deref())
+            .or(self.expr.as_deref())
+            .unwrap_or_default()
+    }
+}
+
+/// The model that the flags of `src` and a domain flag (`(flag, value)`: `--domain`,
+/// `--box`) select, from the one registry ([`crate::models::load`]): a built-in name, a
+/// model file or standard input, or a formula (domain `[-2, 2]^3` unless the flag gives
+/// one, framed by [`crate::camera::frame_box`]). A file's header may state its domain
+/// and view; the flag overrides the domain, and the view then frames the new domain
+/// unless the header states one. Files are read (and a missing one refused) here,
+/// before any work.
+pub fn model_source(src: &ModelArgs, domain: Option<(&str, &str)>) -> Result<Model, String> {
     let domain = match domain {
         Some((flag, s)) => {
             let b = parse_box(flag, s)?;
-            if expr.is_some() {
+            // Formulas and files frame their view from the domain (built-ins keep theirs).
+            let builtin = src
+                .model
+                .as_deref()
+                .is_some_and(|m| src.format.is_none() && crate::models::is_builtin(m));
+            if !builtin {
                 crate::camera::frame_box(&b).map_err(|e| format!("{flag} '{s}': {e}"))?;
             }
             Some(b)
         }
         None => None,
     };
-    let mut model = match (name, expr) {
-        (Some(_), Some(_)) => return Err("give either a MODEL or --expr, not both".into()),
-        (None, None) => {
-            return Err("give a MODEL name (see `tracer list`) or --expr FORMULA".into())
+    let format = src
+        .format
+        .as_deref()
+        .map(|f| crate::models::format(f).map_err(|e| format!("--format: {e}")))
+        .transpose()?;
+    let given = [
+        src.model.is_some(),
+        src.expr.is_some(),
+        src.expr_file.is_some(),
+    ];
+    match given.iter().filter(|&&g| g).count() {
+        0 => {
+            return Err(
+                "give a MODEL (a name from `tracer list`, a model file, or - for stdin), \
+                 --expr FORMULA or --expr-file FILE"
+                    .into(),
+            )
         }
-        (Some(m), None) => crate::models::find(m)?,
-        (None, Some(f)) => {
-            return Model::formula(f, domain).map_err(|e| format!("--expr: {e}"));
-        }
-    };
-    if let Some(d) = domain {
-        model.domain = d;
+        1 => {}
+        _ => return Err("give one of MODEL, --expr and --expr-file, not several".into()),
     }
-    Ok(model)
+    if let Some(f) = &src.expr {
+        if format.is_some() {
+            return Err("--format applies to MODEL files, not to --expr".into());
+        }
+        return Model::formula(f, domain).map_err(|e| format!("--expr: {e}"));
+    }
+    if let Some(f) = &src.expr_file {
+        if format.is_some_and(|f| f.name != "expr") {
+            return Err("--expr-file reads formula files: leave out --format".into());
+        }
+        let expr = crate::models::format("expr")?;
+        return crate::models::load("--expr-file", f, Some(expr), domain);
+    }
+    let m = src.model.as_deref().unwrap_or_default();
+    crate::models::load("MODEL", m, format, domain)
+}
+
+/// Parses `--ortho WIDTH`: the view width of an orthographic camera in model units.
+pub fn parse_ortho(s: &str) -> Result<f64, String> {
+    parse_positive("--ortho", s)
 }
 
 /// Parses `n` comma-separated finite numbers for `flag`.

@@ -15,12 +15,9 @@ pub const AUTO_LIPSCHITZ_SPLITS: usize = 16;
 /// Arguments of `tracer preview`.
 #[derive(clap::Args, Debug, Clone)]
 pub struct PreviewArgs {
-    /// Model name (see `tracer list`); or give --expr.
-    pub model: Option<String>,
-    /// A formula over x, y, z (f >= 0 inside), as for `tracer render --expr` (the
-    /// language is listed at the end of `--help`).
-    #[arg(long, allow_hyphen_values = true)]
-    pub expr: Option<String>,
+    /// The model: see `tracer render --help`.
+    #[command(flatten)]
+    pub src: super::ModelArgs,
     /// Domain box XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX (default: the model's; [-2, 2]^3 for a
     /// formula).
     #[arg(long, allow_hyphen_values = true)]
@@ -28,6 +25,10 @@ pub struct PreviewArgs {
     /// Image size WxH, as for `tracer render` (default 800x800).
     #[arg(long, allow_hyphen_values = true)]
     pub size: Option<String>,
+    /// Orthographic camera WIDTH model units across the image instead of the pinhole
+    /// (cones become cylinders of parallel rays), as for `tracer render --ortho`.
+    #[arg(long, allow_hyphen_values = true, value_name = "WIDTH")]
+    pub ortho: Option<String>,
     /// Image width in pixels (or give --size).
     #[arg(long, default_value_t = 800, conflicts_with = "size")]
     pub width: u32,
@@ -85,10 +86,7 @@ impl PreviewArgs {
 
     /// The model's name, or the formula, for a window title.
     pub fn title(&self) -> &str {
-        self.model
-            .as_deref()
-            .or(self.expr.as_deref())
-            .unwrap_or_default()
+        self.src.title()
     }
 }
 
@@ -159,11 +157,11 @@ pub fn options_for(args: &PreviewArgs, model: &Model) -> Result<Options, String>
 pub fn run_preview(args: &PreviewArgs) -> Result<(), String> {
     let (width, height) = args.image_size()?;
     super::set_threads(args.threads.as_deref())?;
-    let model = super::model_source(
-        args.model.as_deref(),
-        args.expr.as_deref(),
-        args.domain.as_deref().map(|d| ("--domain", d)),
-    )?;
+    let mut model =
+        super::model_source(&args.src, args.domain.as_deref().map(|d| ("--domain", d)))?;
+    if let Some(s) = &args.ortho {
+        model.view.ortho = Some(super::parse_ortho(s)?);
+    }
     check_paths(args)?;
     let opts = options_for(args, &model)?;
     let engine = Engine::new(model.clone(), model.domain, model.view, width, height, opts)?;

@@ -92,6 +92,68 @@ impl PaperModel {
         }
     }
 
+    /// The function in the formula language of `--expr` (see [`super::formula`]), written
+    /// to evaluate in the same order as the Rust below, so that at points it gives the
+    /// same values bit for bit (`tracer list` prints it).
+    pub fn formula(self) -> &'static str {
+        match self {
+            PaperModel::Mitchell => {
+                "x2 = x^2; yz = y^2 + z^2; (x2 + yz) * 20 - (x2^2 + yz^2) * 4 - x2 * yz * 17 - 17"
+            }
+            PaperModel::Bretzel => {
+                "x2 = x^2; a = (1.21 - x2)^2; b = (3.8 - x2)^3; inner = x2 * a * b - y^2 * 10; \
+                 2 - z^2 * 60 - inner^2"
+            }
+            PaperModel::Decocube => {
+                "x2 = x^2; y2 = y^2; z2 = z^2; \
+                 p1 = (x2 + y2 - 0.82)^2 + (z2 - 1)^2; p2 = (y2 + z2 - 0.82)^2 + (x2 - 1)^2; \
+                 p3 = (x2 + z2 - 0.82)^2 + (y2 - 1)^2; 0.02 - p1 * p2 * p3"
+            }
+            PaperModel::Csg => {
+                "x2 = x^2; y2 = y^2; z2 = z^2; b = (0.36 - x2) & (0.36 - y2) & (0.36 - z2); \
+                 s = 0.7056 - (x2 + y2 + z2); yz = y2 + z2; xz = x2 + z2; \
+                 c1 = 0.09 - yz; c2 = 0.04 - yz; c3 = 0.09 - xz; c4 = 0.04 - xz; \
+                 c5 = 0.25 - (x2 + y2); b | ((s & ((c1 \\ c2) | (c3 \\ c4))) \\ c5)"
+            }
+            PaperModel::SphereTrimming => {
+                "r2 = x^2 + y^2 + z^2; shell = (1 - r2) \\ (0.94 - r2); \
+                 x5 = x * 5; y5 = y * 5; z5 = z * 5; \
+                 g = sin(x5) * cos(y5) + sin(y5) * cos(z5) + sin(z5) * cos(x5); \
+                 shell & (0.3 - abs(g))"
+            }
+            PaperModel::SphereNoise => {
+                "sx = sin(x * 1.5); sy = sin(y * 1.5); w = sin(x * 1.111 + sx * 1.1); \
+                 f1 = sx * 3.8 + w * 1.624; f2 = sy * 3.8 + w * 1.299; f3 = sy * 3.8 + w * 2.598; \
+                 81 - (x^2 + y^2 + z^2) + f1 * f2 * f3"
+            }
+            PaperModel::CsgBlending => {
+                "x2 = x^2; y2 = y^2; z2 = z^2; b = (0.36 - x2) & (0.36 - y2) & (0.36 - z2); \
+                 s = 0.7056 - (x2 + y2 + z2); \
+                 c1 = 0.09 - (y2 + z2); c2 = 0.09 - (x2 + z2); c3 = 0.25 - (x2 + y2); \
+                 q1 = c1^2 + c2^2; i1 = c1 + c2 - sqrt(q1 + 1 / (q1 + 1) * 0.5); \
+                 q2 = i1^2 + s^2; u1 = i1 + s + sqrt(q2 + 1 / (q2 + 1) * 0.5); \
+                 q3 = u1^2 + b^2; i2 = u1 + b - sqrt(q3 + 1 / (q3 + 1) * 0.5); \
+                 m = -c3; q4 = i2^2 + m^2; i2 + m + sqrt(q4 + 1 / (q4 + 1) * 0.5)"
+            }
+            PaperModel::Hair => {
+                "x2 = x^2; y2 = y^2; z2 = z^2; \
+                 o1 = 1 - (x2 * 0.0625 + y2 * 0.027777777777777776 + z2 * 0.0625); \
+                 o2 = 1 - (x2 / 1.6129 + (y + 2.5)^2 / 2.25 + (z - 3)^2 / 1.6129); \
+                 o = o1 | o2; k = 9 / sqrt(x2 + y2 + z2); \
+                 xk = x * k; sx = sin(xk * 1.8); fx = sx * 1.8 + (sin(xk * 1.33) * 1.538 + sx * 1.4); \
+                 yk = y * k; sy = sin(yk * 1.8); fy = sy * 1.8 + (sin(yk * 1.33) * 1.538 + sy * 1.4); \
+                 zk = z * k; sz = sin(zk * 1.8); fz = sz * 1.8 + (sin(zk * 1.33) * 1.538 + sz * 1.4); \
+                 pattern = fx * fy * fz - 10; o | ((pattern & (o + 2)) & y)"
+            }
+            PaperModel::SphereMicrostructure => {
+                "r2 = x^2 + y^2 + z^2; ball = 1 - r2; \
+                 sx = sin(x * 20) - 0.9; sy = sin(y * 20) - 0.9; sz = sin(z * 20) - 0.9; \
+                 lattice = (sy & sz) | (sx & sz) | (sx & sy); shell = ball \\ (0.75 - r2); \
+                 ((ball & lattice) | shell) & -z"
+            }
+        }
+    }
+
     /// Domain box: the function is considered inside it only.
     pub fn domain(self) -> Aabb {
         match self {
@@ -139,6 +201,7 @@ impl PaperModel {
             look_at: c,
             up: DVec3::Y,
             fov_deg,
+            ortho: None,
         }
     }
 

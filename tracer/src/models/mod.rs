@@ -1,20 +1,26 @@
 //! Model sources and their one registry: every command that takes a model (`render`,
-//! `range`, `preview`, the benches) looks it up here, so a model that `tracer list`
-//! shows works everywhere. Each source turns its input into an [`AnyShape`] with a
-//! domain box and a default view: [`appendix_a`] (the revised-affine paper's models),
-//! [`progressive`] (the progressive-refinement paper's models, with [`noise`]) and
-//! [`formula`] (formulas parsed from text into a tape).
+//! `range`, `preview`, the benches) looks it up here ([`load`]), so a model that
+//! `tracer list` shows, or a model file, works everywhere. Each source turns its input
+//! into an [`AnyShape`] with a domain box and a default view: [`appendix_a`] (the
+//! revised-affine paper's models), [`progressive`] (the progressive-refinement paper's
+//! models, with [`noise`]), [`formula`] (formulas parsed from text into a tape) and the
+//! model files of [`FORMATS`]: formula files (`.expr`), fidget tapes ([`vm`], `.vm`)
+//! and HyperFun (`.hf`), each read by one parse function. A file's [`header`] may
+//! state its domain and view.
 
 pub mod appendix_a;
 pub mod formula;
+pub mod header;
 pub mod noise;
 pub mod progressive;
+pub mod vm;
 
 pub use appendix_a::PaperModel;
 pub use progressive::GmModel;
 
 use crate::shape::{Aabb, Shape, View};
 use arith_core::Real;
+use std::path::Path;
 
 /// Every kind of shape a model source produces; one `match` per evaluation is negligible
 /// next to the arithmetic, and it keeps each renderer monomorphised once per arithmetic.
@@ -26,6 +32,18 @@ pub enum AnyShape {
     Gm(GmModel),
     /// A formula parsed from text.
     Expr(formula::Tape),
+}
+
+impl AnyShape {
+    /// The function as text that `--expr` accepts and that gives the same values, where
+    /// the source has one (the noise models have none).
+    pub fn formula(&self) -> Option<String> {
+        match self {
+            AnyShape::Paper(m) => Some(m.formula().to_string()),
+            AnyShape::Gm(m) => m.formula(),
+            AnyShape::Expr(t) => Some(t.to_formula()),
+        }
+    }
 }
 
 impl Shape for AnyShape {
@@ -82,6 +100,225 @@ impl Model {
     }
 }
 
+/// A model file format: how its files are named and read. Adding a format is one
+/// entry of [`FORMATS`] with its parse function.
+#[derive(Clone, Copy, Debug)]
+pub struct Format {
+    /// Its `--format` name.
+    pub name: &'static str,
+    /// File name extensions (without the dot) that select it.
+    pub extensions: &'static [&'static str],
+    /// What it is, for `--help` and messages.
+    pub about: &'static str,
+    /// The comment mark of its [`header`] lines (`""`: no header).
+    pub comment: &'static str,
+    /// Reads a file's text (`path` names it in messages, `file:line:column: ...`) into
+    /// a model with the format's default domain and a view framing it.
+    pub parse: fn(&str, &str) -> Result<Model, String>,
+}
+
+/// Every model file format.
+pub const FORMATS: [Format; 3] = [
+    Format {
+        name: "expr",
+        extensions: &["expr"],
+        about: "formula in the language of --expr",
+        comment: "#",
+        parse: formula_file,
+    },
+    Format {
+        name: "vm",
+        extensions: &["vm"],
+        about: "fidget SSA tape, negated (fidget is < 0 inside)",
+        comment: "#",
+        parse: vm_file,
+    },
+    Format {
+        name: "hf",
+        extensions: &["hf"],
+        about: "HyperFun program",
+        comment: "--",
+        parse: hf_file,
+    },
+];
+
+/// The format named `name` (`--format`).
+pub fn format(name: &str) -> Result<&'static Format, String> {
+    FORMATS
+        .iter()
+        .find(|f| f.name.eq_ignore_ascii_case(name))
+        .ok_or_else(|| {
+            let names: Vec<&str> = FORMATS.iter().map(|f| f.name).collect();
+            format!(
+                "unknown format '{name}' (expected one of: {})",
+                names.join(", ")
+            )
+        })
+}
+
+/// The format a file name's extension selects.
+pub fn format_of(path: &str) -> Option<&'static Format> {
+    let ext = Path::new(path).extension()?.to_str()?;
+    FORMATS
+        .iter()
+        .find(|f| f.extensions.iter().any(|e| e.eq_ignore_ascii_case(ext)))
+}
+
+/// The model name of a file: its stem (`models/shikki.hf` is `shikki`).
+fn file_stem(path: &str) -> String {
+    Path::new(path)
+        .file_stem()
+        .and_then(|s| s.to_str())
+        .filter(|s| !s.is_empty())
+        .unwrap_or("model")
+        .to_string()
+}
+
+/// Default domain of a formula: `[-2, 2]^3`.
+pub const FORMULA_DOMAIN: f64 = 2.0;
+
+fn formula_file(text: &str, path: &str) -> Result<Model, String> {
+    let tape = formula::parse(text)
+        .map_err(|e| format!("{path}:{}:{}: {}", e.line, e.column, e.message))?;
+    let domain = Aabb::cube(FORMULA_DOMAIN);
+    Ok(Model {
+        name: file_stem(path),
+        description: format!("formula file {path} ({} instructions)", tape.len()),
+        shape: AnyShape::Expr(tape),
+        domain,
+        view: crate::camera::frame_box(&domain)?,
+        lipschitz: None,
+    })
+}
+
+fn vm_file(text: &str, path: &str) -> Result<Model, String> {
+    let tape = vm::parse(text).map_err(|e| format!("{path}:{e}"))?;
+    let domain = Aabb::cube(vm::DEFAULT_DOMAIN);
+    Ok(Model {
+        name: file_stem(path),
+        description: format!("fidget tape {path}, negated ({} instructions)", tape.len()),
+        shape: AnyShape::Expr(tape),
+        domain,
+        view: crate::camera::frame_box(&domain)?,
+        lipschitz: None,
+    })
+}
+
+fn hf_file(_text: &str, path: &str) -> Result<Model, String> {
+    Err(format!(
+        "{path}: HyperFun support is not built in this version"
+    ))
+}
+
+/// The name standing for standard input in [`load`].
+pub const STDIN: &str = "-";
+
+/// Reads model text from `spec` (a path, or [`STDIN`]); `what` names the argument in
+/// the one-line error.
+pub fn read_source(what: &str, spec: &str) -> Result<String, String> {
+    let bytes = if spec == STDIN {
+        use std::io::Read as _;
+        let mut buf = Vec::new();
+        std::io::stdin()
+            .read_to_end(&mut buf)
+            .map_err(|e| format!("{what} '-': cannot read standard input: {e}"))?;
+        buf
+    } else {
+        let p = Path::new(spec);
+        if p.is_dir() {
+            return Err(format!("{what} '{spec}': is a folder, not a model file"));
+        }
+        std::fs::read(p).map_err(|e| format!("{what} '{spec}': cannot read the file: {e}"))?
+    };
+    String::from_utf8(bytes).map_err(|e| {
+        format!(
+            "{what} '{spec}': not UTF-8 text (invalid byte at offset {})",
+            e.utf8_error().valid_up_to()
+        )
+    })
+}
+
+/// The model of `text` in `format` (`path` names it in messages): the format's parse,
+/// then the domain (`domain`, else the header's `domain:`, else the format's default)
+/// and the view (the header's `view:` fields over the view that frames the domain, or
+/// the format's own view where neither the domain nor a view is stated).
+pub fn from_text(
+    text: &str,
+    path: &str,
+    format: &Format,
+    domain: Option<Aabb>,
+) -> Result<Model, String> {
+    let mut model = (format.parse)(text, path)?;
+    let h = if format.comment.is_empty() {
+        header::Header::default()
+    } else {
+        header::Header::parse(text, format.comment, path)?
+    };
+    let dom = domain.or(h.domain);
+    if let Some(d) = dom {
+        model.domain = d;
+    }
+    if dom.is_some() || !h.view.is_empty() {
+        let base =
+            crate::camera::frame_box(&model.domain).map_err(|e| format!("{path}: domain: {e}"))?;
+        model.view = h.view.apply(base);
+    }
+    Ok(model)
+}
+
+/// The model `spec` names: a built-in name ([`find`]), or a model file's path, or
+/// [`STDIN`] (a formula unless `format` says otherwise). A file's format is `format`,
+/// else the one its extension selects. `domain` replaces the model's domain (a file's
+/// view then frames it, unless its header states one; a built-in keeps its view).
+/// `what` names the argument in one-line errors (`MODEL`, `--models`).
+pub fn load(
+    what: &str,
+    spec: &str,
+    format: Option<&Format>,
+    domain: Option<Aabb>,
+) -> Result<Model, String> {
+    if spec != STDIN && format.is_none() {
+        let builtin = find(spec);
+        if builtin.is_ok() || !looks_like_path(spec) {
+            let mut m = builtin.map_err(|e| {
+                let exts: Vec<String> = FORMATS
+                    .iter()
+                    .flat_map(|f| f.extensions.iter().map(|e| format!(".{e}")))
+                    .collect();
+                format!("{what}: {e}, or a model file ({})", exts.join(", "))
+            })?;
+            if let Some(d) = domain {
+                m.domain = d;
+            }
+            return Ok(m);
+        }
+    }
+    let fmt = match format {
+        Some(f) => f,
+        None if spec == STDIN => &FORMATS[0],
+        None => format_of(spec).ok_or_else(|| {
+            let names: Vec<&str> = FORMATS.iter().map(|f| f.name).collect();
+            format!(
+                "{what} '{spec}': cannot tell the format from the file name: give --format {}",
+                names.join("|")
+            )
+        })?,
+    };
+    let text = read_source(what, spec)?;
+    let path = if spec == STDIN { "<stdin>" } else { spec };
+    let mut m = from_text(&text, path, fmt, domain)?;
+    if spec == STDIN {
+        m.name = "stdin".into();
+    }
+    Ok(m)
+}
+
+/// Whether `spec` is meant as a path: it has a folder part or an extension, or names
+/// an existing file.
+fn looks_like_path(spec: &str) -> bool {
+    spec.contains(['/', '\\']) || Path::new(spec).extension().is_some() || Path::new(spec).is_file()
+}
+
 impl Shape for Model {
     fn eval<R: Real>(&self, x: R, y: R, z: R) -> R {
         self.shape.eval(x, y, z)
@@ -102,6 +339,20 @@ pub fn all() -> Vec<Model> {
     v
 }
 
+/// The names of the built-in models, without building them.
+pub fn builtin_names() -> Vec<String> {
+    appendix_a::PaperModel::ALL
+        .iter()
+        .map(|m| m.name().to_string())
+        .chain(progressive::GmModel::all().iter().map(|m| m.name()))
+        .collect()
+}
+
+/// Whether `name` is a built-in model's (case-insensitive).
+pub fn is_builtin(name: &str) -> bool {
+    builtin_names().iter().any(|n| n.eq_ignore_ascii_case(name))
+}
+
 /// The model named `name` (case-insensitive); the error lists the valid names. Only the
 /// model found is built (some models compute a Lipschitz bound when built).
 pub fn find(name: &str) -> Result<Model, String> {
@@ -113,14 +364,9 @@ pub fn find(name: &str) -> Result<Model, String> {
     if let Some(m) = gm.iter().find(|m| is(&m.name())) {
         return Ok(m.model());
     }
-    let names: Vec<String> = appendix_a::PaperModel::ALL
-        .iter()
-        .map(|m| m.name().to_string())
-        .chain(gm.iter().map(|m| m.name()))
-        .collect();
     Err(format!(
         "unknown model '{name}' (expected one of: {})",
-        names.join(", ")
+        builtin_names().join(", ")
     ))
 }
 

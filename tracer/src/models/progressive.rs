@@ -307,24 +307,28 @@ impl GmModel {
                 look_at: DVec3::ZERO,
                 up: DVec3::Y,
                 fov_deg: 36.0,
+                ortho: None,
             },
             GmModel::Blobby => View {
                 eye: DVec3::new(1.2, 0.6, 5.5),
                 look_at: DVec3::ZERO,
                 up: DVec3::Y,
                 fov_deg: 40.0,
+                ortho: None,
             },
             GmModel::Hypertexture(_) => View {
                 eye: DVec3::new(0.0, 0.8, 5.6),
                 look_at: DVec3::ZERO,
                 up: DVec3::Y,
                 fov_deg: 40.0,
+                ortho: None,
             },
             GmModel::Landscape => View {
                 eye: DVec3::new(0.0, 1.6, 3.9),
                 look_at: DVec3::new(0.0, -0.4, 0.0),
                 up: DVec3::Y,
                 fov_deg: 60.0,
+                ortho: None,
             },
         }
     }
@@ -349,6 +353,21 @@ impl GmModel {
         }
     }
 
+    /// The function in the formula language of `--expr` (see [`super::formula`]), where
+    /// it has one (the noise models have none: noise is not in the language), written to
+    /// evaluate in the same order as the generic Rust code.
+    pub fn formula(&self) -> Option<String> {
+        match *self {
+            GmModel::Mitchell => Some(
+                "x2 = x^2; yz = y^2 + z^2; \
+                 -((x2^2 + yz^2) * 4 + x2 * yz * 17 - (x2 + yz) * 20 + 17)"
+                    .into(),
+            ),
+            GmModel::Blobby => Some(blobby_formula()),
+            GmModel::Hypertexture(_) | GmModel::Landscape => None,
+        }
+    }
+
     /// This model as a [`Model`].
     pub fn model(self) -> Model {
         Model {
@@ -368,6 +387,48 @@ impl GmModel {
         v.push(GmModel::Landscape);
         v
     }
+}
+
+/// The blobby function as a formula: per blob `q = |p - c|^2`, the sum of
+/// `max(1 - q / R^2, 0)^3 s` from -0.5, minus the least `sqrt(max(q, R^2)) - R`.
+fn blobby_formula() -> String {
+    // Shortest text that reads back as the same double (negative ones parenthesised).
+    let lit = |c: f64| {
+        if c.is_sign_negative() {
+            format!("(-{:?})", -c)
+        } else {
+            format!("{c:?}")
+        }
+    };
+    let mut f = String::new();
+    for (i, b) in blobs().iter().enumerate() {
+        let r2 = b.radius * b.radius;
+        let c = b.centre;
+        f.push_str(&format!(
+            "q{i} = (x - {})^2 + (y - {})^2 + (z - {})^2;\n",
+            lit(c.x),
+            lit(c.y),
+            lit(c.z)
+        ));
+        let term = format!(
+            "max(q{i} * {} + 1, 0)^3 * {}",
+            lit(-1.0 / r2),
+            lit(b.strength)
+        );
+        let dist = format!("sqrt(max(q{i}, {})) - {}", lit(r2), lit(b.radius));
+        if i == 0 {
+            f.push_str(&format!("s0 = -0.5 + {term};\no0 = {dist};\n"));
+        } else {
+            f.push_str(&format!(
+                "s{i} = s{} + {term};\no{i} = min(o{}, {dist});\n",
+                i - 1,
+                i - 1
+            ));
+        }
+    }
+    let n = blobs().len() - 1;
+    f.push_str(&format!("s{n} - o{n}"));
+    f
 }
 
 /// The progressive-refinement paper's models, with domains, views and Lipschitz bounds.

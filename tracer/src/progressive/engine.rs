@@ -221,7 +221,15 @@ impl<S: Shape> Engine<S> {
         crate::shape::check_domain(&domain).map_err(|e| format!("domain box: {e}"))?;
         let cam = Camera::try_new(view, vw, vh)?;
         let plan = Plan::new(vw, vh);
-        let r_near = box_distance(cam.eye, &domain);
+        // Orthographic: every ray starts on the image plane and distances are depths
+        // along `forward` (the domain's nearest and farthest).
+        let ortho = cam.ortho.is_some();
+        let depth_of = |p: DVec3| (p - cam.eye).dot(cam.forward);
+        let mut r_near = if ortho {
+            f64::INFINITY
+        } else {
+            box_distance(cam.eye, &domain)
+        };
         let mut t_far = 0.0f64;
         for c in 0..8 {
             let p = DVec3::new(
@@ -241,7 +249,16 @@ impl<S: Shape> Engine<S> {
                     domain.max.z
                 },
             );
-            t_far = t_far.max((p - cam.eye).length());
+            if ortho {
+                r_near = r_near.min(depth_of(p));
+                t_far = t_far.max(depth_of(p));
+            } else {
+                t_far = t_far.max((p - cam.eye).length());
+            }
+        }
+        if ortho {
+            // A margin for the rounding of the depths.
+            r_near = (r_near - 1e-12 * t_far.abs()).max(0.0);
         }
         let t_far = t_far * (1.0 + 1e-12);
         let mut queue = VecDeque::new();
@@ -490,30 +507,49 @@ impl<S: Shape> Engine<S> {
         let (o, d) = self
             .cam
             .ray_at(s.x as f64 + s.n as f64 * 0.5, s.y as f64 + s.n as f64 * 0.5);
-        let tan_a = self.tan_aperture(s, d);
-        let cos_a = 1.0 / (1.0 + tan_a * tan_a).sqrt();
-        let t0 = match self.opts.child_start {
-            ChildStart::Radial => s.start * cos_a,
-            ChildStart::Paper if s.top => s.start * cos_a,
-            ChildStart::Paper => s.start / d.dot(s.parent_dir),
+        // Orthographic: the sample's rays fill a cylinder of radius `rho` about the axis
+        // (the sample's half diagonal). It is traced as the cone of apex `o - L d` with
+        // `tan a = rho / L`, which holds it at every depth `t >= 0` (its radius there is
+        // `rho (1 + t / L)`) and is barely wider for `L` far beyond the domain; distances
+        // along that cone are `L` more than the depths (`shift`). Its points nearer than
+        // `start` are in the region its parent cleared (or before the domain).
+        let (apex, tan_a, shift, t0) = if self.cam.ortho.is_some() {
+            let rho = 0.5 * std::f64::consts::SQRT_2 * s.n as f64 * self.cam.pixel_size();
+            let l = 1024.0 * (self.t_far + rho) + 1.0;
+            let tan_a = rho / l * (1.0 + 1e-9);
+            (o - d * l, tan_a, l, l + s.start)
+        } else {
+            let tan_a = self.tan_aperture(s, d);
+            let cos_a = 1.0 / (1.0 + tan_a * tan_a).sqrt();
+            let t0 = match self.opts.child_start {
+                ChildStart::Radial => s.start * cos_a,
+                ChildStart::Paper if s.top => s.start * cos_a,
+                ChildStart::Paper => s.start / d.dot(s.parent_dir),
+            };
+            (o, tan_a, 0.0, t0)
         };
+        let t_far = self.t_far + shift;
         let mut evals = 0;
         let end = if self.opts.local {
             let mut ranges = 0;
             let e = trace_cone_local(
                 &self.bounded(),
-                o,
+                apex,
                 d,
                 tan_a,
                 t0,
-                self.t_far,
+                t_far,
                 &mut evals,
                 &mut ranges,
             );
             self.stats.range_evals += ranges;
             e
         } else {
-            trace_cone(&self.bounded(), o, d, tan_a, t0, self.t_far, &mut evals)
+            trace_cone(&self.bounded(), apex, d, tan_a, t0, t_far, &mut evals)
+        };
+        let end = match end {
+            ConeEnd::Reached(tm) => ConeEnd::Reached(tm - shift),
+            e => e,
         };
         self.stats.evals += evals;
         let (start, parent_dir, top) = match end {

@@ -99,7 +99,7 @@ impl RenderOptions {
         match self.eps {
             Some(e) => Precision { abs: e, rel: 0.0 },
             None => Precision {
-                abs: 1e-7 * (self.domain.max - self.domain.min).length(),
+                abs: 1e-7 * (self.domain.max - self.domain.min).length() + 0.25 * cam.pixel_size(),
                 rel: 0.25 * cam.pixel_angle(),
             },
         }
@@ -380,7 +380,7 @@ fn render_tile<A: Arithmetic, S: Shape + ?Sized>(
             (chunk[l.min(last)].0, chunk[l.min(last)].1)
         }));
         for (&(i, j, depths), &(d, inv, c, ic)) in chunk.iter().zip(&set) {
-            let o = cam.eye;
+            let o = cam.origin_at(i as f64 + 0.5, j as f64 + 0.5);
             if let Some(start) = start_of(o, d, inv, c, ic, depths, &opts.domain) {
                 jobs.push(RayJob { o, d, start });
                 pixel_of.push((j - j0) as usize * tw + (i - i0) as usize);

@@ -5,6 +5,13 @@
 //! dropped, otherwise its depth range is narrowed slice by slice ([`Culler::traverse`]) and
 //! it is split in four; its last form tells each child and each ray where their roots can
 //! be. The derivation, the margins and the choices are in `docs/algorithm-2-culling.md`.
+//!
+//! A bundle's points are `O(u, v) + s D(u, v)`, both affine in the pixel coordinates:
+//! a pinhole has one origin (the eye) and directions that vary, an orthographic view
+//! ([`Camera::ortho`]) one direction (`forward`) and origins that vary on the image
+//! plane through the eye, so in both `s` is the depth along `forward`. The box of a
+//! slice is spanned by the corner origins and directions, the frustum form is exact
+//! for the orthographic bundle (no product terms).
 
 use crate::camera::Camera;
 use crate::search::ray::{Pruner, Start};
@@ -40,7 +47,8 @@ impl std::ops::AddAssign for CullStats {
 /// 15-40% slower than 16).
 pub const MIN_CELL_PIXELS: u32 = 16;
 
-/// A cell's bundle of ray directions (un-normalised, see [`Camera::raw_dir`]).
+/// A cell's bundle of rays: directions (un-normalised, see [`Camera::raw_dir`]) and
+/// origins ([`Camera::origin_at`]), `D = dc + u u' + v v'`, `O = oc + ou u' + ov v'`.
 #[derive(Clone, Copy, Debug)]
 struct Bundle {
     dmin: DVec3,
@@ -48,6 +56,11 @@ struct Bundle {
     dc: DVec3,
     u: DVec3,
     v: DVec3,
+    omin: DVec3,
+    omax: DVec3,
+    oc: DVec3,
+    ou: DVec3,
+    ov: DVec3,
     /// The cell's width per unit depth.
     width: f64,
     /// Centre and inverse half-extent of the pixel centres: `u = (px - xc) / hx` (`0` for
@@ -137,9 +150,14 @@ const NARROW_STACK: usize = 48;
 impl Culler {
     /// A culler for the camera's view of `domain`.
     pub fn new(cam: &Camera, domain: &Aabb) -> Self {
+        // The image plane's extent, for an orthographic view.
+        let plane = cam
+            .ortho
+            .map_or(0.0, |w| w * (1.0 + cam.height as f64 / cam.width as f64));
         let scale = (domain.max - domain.min).length()
             + (cam.eye - domain.min).length()
-            + (cam.eye - domain.max).length();
+            + (cam.eye - domain.max).length()
+            + plane;
         // Rounding of corners, clip and the normalised directions is ~1e-15 relative.
         let margin = scale * 1e-9 + 1e-300;
         let domain = Aabb::new(
@@ -149,12 +167,19 @@ impl Culler {
         let (mut s0, mut s1) = depth_range(cam, &domain);
         s0 = (s0 - margin).max(0.0);
         s1 += margin;
+        // Orthographic: a pixel is as wide at every depth; a slice that deep at the far
+        // end of the domain is not split further (this only steers the narrowing).
+        let pixel_angle = if cam.ortho.is_some() {
+            cam.pixel_size() / s1.max(f64::MIN_POSITIVE)
+        } else {
+            cam.pixel_angle()
+        };
         Culler {
             cam: *cam,
             domain,
             margin,
             s_range: (s0, s1),
-            pixel_angle: cam.pixel_angle(),
+            pixel_angle,
         }
     }
 
@@ -171,6 +196,18 @@ impl Culler {
         (a.min(b).min(c.min(d)), a.max(b).max(c.max(d)))
     }
 
+    /// The componentwise least and greatest ray origins ([`Camera::origin_at`]) of the
+    /// pixel centres of `[i0, i1) x [j0, j1)`, from the four corners likewise.
+    pub fn bundle_origins(&self, i0: u32, j0: u32, i1: u32, j1: u32) -> (DVec3, DVec3) {
+        let (x0, x1) = (i0 as f64 + 0.5, i1 as f64 - 0.5);
+        let (y0, y1) = (j0 as f64 + 0.5, j1 as f64 - 0.5);
+        let a = self.cam.origin_at(x0, y0);
+        let b = self.cam.origin_at(x1, y0);
+        let c = self.cam.origin_at(x0, y1);
+        let d = self.cam.origin_at(x1, y1);
+        (a.min(b).min(c.min(d)), a.max(b).max(c.max(d)))
+    }
+
     /// The cell's directions: their bounds, and `D = Dc + U u + V v` over the pixel
     /// centres (`u, v in [-1, 1]`).
     fn bundle(&self, i0: u32, j0: u32, i1: u32, j1: u32) -> Bundle {
@@ -181,12 +218,21 @@ impl Culler {
         let dc = self.cam.raw_dir(xc, yc);
         let u = 0.5 * (self.cam.raw_dir(x1, yc) - self.cam.raw_dir(x0, yc));
         let v = 0.5 * (self.cam.raw_dir(xc, y1) - self.cam.raw_dir(xc, y0));
+        let (omin, omax) = self.bundle_origins(i0, j0, i1, j1);
+        let oc = self.cam.origin_at(xc, yc);
+        let ou = 0.5 * (self.cam.origin_at(x1, yc) - self.cam.origin_at(x0, yc));
+        let ov = 0.5 * (self.cam.origin_at(xc, y1) - self.cam.origin_at(xc, y0));
         Bundle {
             dmin,
             dmax,
             dc,
             u,
             v,
+            omin,
+            omax,
+            oc,
+            ou,
+            ov,
             width: (i1 - i0).max(j1 - j0) as f64 * self.pixel_angle,
             xc,
             ihx: if x1 > x0 { 2.0 / (x1 - x0) } else { 0.0 },
@@ -206,18 +252,24 @@ impl Culler {
         j1: u32,
         s_range: (f64, f64),
     ) -> Option<(Aabb, (f64, f64))> {
-        self.box_of(self.bundle_dirs(i0, j0, i1, j1), s_range)
+        self.box_of(
+            self.bundle_dirs(i0, j0, i1, j1),
+            self.bundle_origins(i0, j0, i1, j1),
+            s_range,
+        )
     }
 
-    /// [`Culler::bundle_box`] from the bundle's direction bounds. The points `eye + d s`
-    /// (`s >= 0`) are extreme in each coordinate at `dmin` or `dmax` and at `s0` or `s1`;
-    /// rounding is monotone, so this is exactly the box of the 8 rounded corner points.
+    /// [`Culler::bundle_box`] from the bundle's direction and origin bounds. The points
+    /// `o + d s` (`s >= 0`) are extreme in each coordinate at `omin` or `omax`, `dmin` or
+    /// `dmax` and at `s0` or `s1`; rounding is monotone, so this is exactly the box of
+    /// the rounded corner points (the origins' rounding is within the margin).
     /// The depth range is then cut to the box's (further rounds of box and depth range
     /// tightened little once cells are tested in their frustum form).
     #[inline]
     fn box_of(
         &self,
         (dmin, dmax): (DVec3, DVec3),
+        (omin, omax): (DVec3, DVec3),
         s_range: (f64, f64),
     ) -> Option<(Aabb, (f64, f64))> {
         // Rays start at the eye: every point of a bundle has depth `s >= 0`.
@@ -226,8 +278,8 @@ impl Culler {
             return None;
         }
         let m = DVec3::splat(self.margin);
-        let lo = self.cam.eye + (dmin * s0).min(dmin * s1);
-        let hi = self.cam.eye + (dmax * s0).max(dmax * s1);
+        let lo = omin + (dmin * s0).min(dmin * s1);
+        let hi = omax + (dmax * s0).max(dmax * s1);
         let lo = (lo - m).max(self.domain.min);
         let hi = (hi + m).min(self.domain.max);
         if !(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z) {
@@ -449,16 +501,25 @@ impl Culler {
     /// of every cell shares and the depths handed to rays absorb in their margins.
     /// Unlike the box, the forms follow the frustum's slant, and pruning their depth
     /// symbol narrows the depth range of the whole bundle at once.
+    ///
+    /// With origins `O = Oc + Ou u + Ov v` (orthographic views) the forms gain the
+    /// affine terms `Ou eps1 + Ov eps2` (exact: no product with the depth), and the
+    /// rounding allowance counts the origins' magnitude.
     fn frustum<R: Range>(&self, bundle: &Bundle, s0: f64, s1: f64) -> [R; 3] {
         let (m, r, emr) = arith_core::affine_round::mid_rad(s0, s1);
         let (dc, u, v) = (bundle.dc, bundle.u, bundle.v);
+        let (oc, ou, ov) = (bundle.oc, bundle.ou, bundle.ov);
         let dn = (dc.abs() + u.abs() + v.abs()).max_element();
-        let eye = self.cam.eye;
         core::array::from_fn(|k| {
             let (dk, uk, vk) = (dc[k], u[k], v[k]);
-            let round = 64.0 * f64::EPSILON * (eye[k].abs() + (m.abs() + r) * dn);
+            let on = oc[k].abs() + ou[k].abs() + ov[k].abs();
+            let round = 64.0 * f64::EPSILON * (on + (m.abs() + r) * dn);
             let err = r * (uk.abs() + vk.abs()) + emr * dn + round + self.margin;
-            R::from_affine(eye[k] + m * dk, &[r * dk, m * uk, m * vk], err)
+            R::from_affine(
+                oc[k] + m * dk,
+                &[r * dk, m * uk + ou[k], m * vk + ov[k]],
+                err,
+            )
         })
     }
 
@@ -646,7 +707,11 @@ impl<R: Range> Narrowing<R> {
             }
             self.budget -= 1;
             stats.cells_tested += 1;
-            let Some((b, t)) = c.box_of((bundle.dmin, bundle.dmax), self.cur) else {
+            let Some((b, t)) = c.box_of(
+                (bundle.dmin, bundle.dmax),
+                (bundle.omin, bundle.omax),
+                self.cur,
+            ) else {
                 kept = Some(None);
                 continue;
             };
@@ -799,68 +864,78 @@ mod tests {
             look_at: DVec3::new(0.05, -0.03, 0.0),
             up: DVec3::Y,
             fov_deg: 40.0,
+            ortho: None,
         };
         let (w, h) = (64, 48);
-        let cam = Camera::new(view, w, h);
-        let c = Culler::new(&cam, &domain);
-        for kind in ArithKind::ALL {
-            for touch in [false, true] {
-                let shape = Ball { touch };
-                let mut got = vec![None; (w * h) as usize];
-                let mut stats = CullStats::default();
-                let mut gaps = 0;
-                let mut trace = |i: u32, j: u32, s: Start| {
-                    assert!(s.t0 <= s.split && s.split <= s.resume, "{s:?}");
-                    assert!(s.resume <= s.t1 && s.step >= 0.0, "{s:?}");
-                    gaps += usize::from(s.resume > s.split);
-                    got[(j * w + i) as usize] = Some(s);
-                };
-                crate::with_arith!(kind, A => c.traverse::<A, _, _>(
-                    &shape,
-                    (0, 0, w, h),
-                    &mut stats,
-                    &mut trace,
-                ));
-                assert!(stats.pixels_culled > 0, "{kind}: nothing culled");
-                let mut hits = 0;
-                for j in 0..h {
-                    for i in 0..w {
-                        let (o, d) = cam.ray(i, j);
-                        let b = o.dot(d);
-                        let disc = b * b - (o.length_squared() - 1.0);
-                        if disc <= 1e-9 {
-                            continue;
-                        }
-                        hits += 1;
-                        let tag = format!("{kind} touch={touch} pixel ({i},{j})");
-                        let g = got[(j * w + i) as usize]
-                            .unwrap_or_else(|| panic!("{tag}: culled but hits"));
-                        let f = d.dot(cam.forward);
-                        for t in [-b - disc.sqrt(), -b + disc.sqrt()] {
-                            let s = t * f;
-                            assert!(
-                                g.t0 <= s && s <= g.t1,
-                                "{tag}: root depth {s} not in [{}, {}]",
-                                g.t0,
-                                g.t1
-                            );
-                            assert!(
-                                !(g.split < s && s < g.resume),
-                                "{tag}: root depth {s} in the gap ({}, {})",
-                                g.split,
-                                g.resume
-                            );
+        // And orthographic: parallel rays from the image plane.
+        let ortho = View {
+            ortho: Some(2.6),
+            ..view
+        };
+        for view in [view, ortho] {
+            let cam = Camera::new(view, w, h);
+            let c = Culler::new(&cam, &domain);
+            for kind in ArithKind::ALL {
+                for touch in [false, true] {
+                    let shape = Ball { touch };
+                    let mut got = vec![None; (w * h) as usize];
+                    let mut stats = CullStats::default();
+                    let mut gaps = 0;
+                    let mut trace = |i: u32, j: u32, s: Start| {
+                        assert!(s.t0 <= s.split && s.split <= s.resume, "{s:?}");
+                        assert!(s.resume <= s.t1 && s.step >= 0.0, "{s:?}");
+                        gaps += usize::from(s.resume > s.split);
+                        got[(j * w + i) as usize] = Some(s);
+                    };
+                    crate::with_arith!(kind, A => c.traverse::<A, _, _>(
+                        &shape,
+                        (0, 0, w, h),
+                        &mut stats,
+                        &mut trace,
+                    ));
+                    assert!(stats.pixels_culled > 0, "{kind}: nothing culled");
+                    let mut hits = 0;
+                    for j in 0..h {
+                        for i in 0..w {
+                            let (o, d) = cam.ray(i, j);
+                            let b = o.dot(d);
+                            let disc = b * b - (o.length_squared() - 1.0);
+                            if disc <= 1e-9 {
+                                continue;
+                            }
+                            hits += 1;
+                            let tag = format!("{kind} touch={touch} pixel ({i},{j})");
+                            let g = got[(j * w + i) as usize]
+                                .unwrap_or_else(|| panic!("{tag}: culled but hits"));
+                            let f = d.dot(cam.forward);
+                            for t in [-b - disc.sqrt(), -b + disc.sqrt()] {
+                                let s = t * f;
+                                assert!(
+                                    g.t0 <= s && s <= g.t1,
+                                    "{tag}: root depth {s} not in [{}, {}]",
+                                    g.t0,
+                                    g.t1
+                                );
+                                assert!(
+                                    !(g.split < s && s < g.resume),
+                                    "{tag}: root depth {s} in the gap ({}, {})",
+                                    g.split,
+                                    g.resume
+                                );
+                            }
                         }
                     }
-                }
-                assert!(hits > 500, "the view should show the sphere ({hits} hits)");
-                if kind != ArithKind::Ia {
-                    // The rays' shares of their cells' forms were used (about half of
-                    // the hit rays skip a gap on the ball, a tenth on the touch).
-                    assert!(
-                        gaps > hits / 20,
-                        "{kind}: only {gaps} rays skip a proved gap"
-                    );
+                    assert!(hits > 500, "the view should show the sphere ({hits} hits)");
+                    if kind != ArithKind::Ia && view.ortho.is_none() {
+                        // The rays' shares of their cells' forms were used (about half of
+                        // the hit rays skip a gap on the ball, a tenth on the touch; none
+                        // in the orthographic view, whose rays start from their cell's
+                        // first slice instead).
+                        assert!(
+                            gaps > hits / 20,
+                            "{kind}: only {gaps} rays skip a proved gap"
+                        );
+                    }
                 }
             }
         }
@@ -880,12 +955,21 @@ mod tests {
                 look_at: DVec3::ZERO,
                 up: DVec3::Y,
                 fov_deg: 35.0,
+                ortho: None,
             },
             View {
                 eye: DVec3::new(0.1, 0.2, 0.0),
                 look_at: DVec3::new(1.0, 0.3, -1.0),
                 up: DVec3::Y,
                 fov_deg: 100.0,
+                ortho: None,
+            },
+            View {
+                eye: DVec3::new(2.13, 1.704, 3.408),
+                look_at: DVec3::new(0.2, 0.0, -0.1),
+                up: DVec3::Y,
+                fov_deg: 35.0,
+                ortho: Some(3.5),
             },
         ];
         for v in views {
@@ -937,12 +1021,21 @@ mod tests {
                 look_at: DVec3::ZERO,
                 up: DVec3::Y,
                 fov_deg: 40.0,
+                ortho: None,
             },
             View {
                 eye: DVec3::new(0.1, 0.2, 0.0),
                 look_at: DVec3::new(1.0, 0.3, -1.0),
                 up: DVec3::Y,
                 fov_deg: 90.0,
+                ortho: None,
+            },
+            View {
+                eye: DVec3::new(3.0, 2.0, 4.0),
+                look_at: DVec3::ZERO,
+                up: DVec3::Y,
+                fov_deg: 40.0,
+                ortho: Some(2.5),
             },
         ];
         for v in views {

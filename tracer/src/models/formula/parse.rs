@@ -2,6 +2,13 @@
 //! the position of the offending token; nesting is bounded so that no input can
 //! overflow the stack (here, in compilation, printing or dropping the tree).
 //!
+//! Long input stays shallow: an operand that would put its node at [`MAX_TREE_DEPTH`]
+//! (a flat sum or product of thousands of terms nests to the left) becomes a hidden
+//! binding, and the tree refers to it, so a file of 100 000 terms parses, compiles and drops without
+//! deep recursion, into the same tape (a binding is computed where it is written, in
+//! the same order). Hidden bindings are named with a prefix that no name in the text
+//! starts with (`_h0`, `_h1`, ... or `__h0`, ...), so the printed program parses back.
+//!
 //! Grammar (whitespace and `#` comments to end of line are ignored):
 //! ```text
 //! program  := (NAME '=' union ';')* union ';'? END
@@ -90,7 +97,9 @@ const PRODUCT_HINT: &str = "a product needs '*', as in 2*x";
 
 /// Deepest nesting of parentheses, calls and unary minus signs accepted.
 pub const MAX_NESTING: usize = 200;
-/// Deepest syntax tree accepted (long chains like `x + x + ... + x` nest to the left).
+/// Depth at which a subtree is no longer kept inline: its deep operand (long chains like
+/// `x + x + ... + x` nest to the left) becomes a hidden binding (see the module docs),
+/// so no tree is this deep.
 pub const MAX_TREE_DEPTH: usize = 2000;
 /// Largest exponent magnitude accepted after `^`.
 pub const MAX_EXPONENT: i64 = 1024;
@@ -243,6 +252,10 @@ struct Parser<'a> {
     index: HashMap<String, usize>,
     /// The constant each binding folds to, if it does (see [`folded_const`]).
     consts: Vec<Option<f64>>,
+    /// The bindings so far, the user's and the hidden ones, in order.
+    bindings: Vec<Binding>,
+    /// The prefix of hidden binding names, chosen at the first one.
+    hidden_prefix: Option<String>,
 }
 
 /// A subtree and its depth.
@@ -298,19 +311,59 @@ impl Parser<'_> {
     }
     fn node(&self, e: Expr, depth: usize, pos: usize) -> Result<Node, ParseError> {
         if depth > MAX_TREE_DEPTH {
+            // Operands are made shallow first (see `shallow`): not reached by the grammar.
             return self.err_at(
                 pos,
-                format!("formula too long or deep (syntax tree deeper than {MAX_TREE_DEPTH})"),
+                format!("formula too deep (syntax tree deeper than {MAX_TREE_DEPTH})"),
             );
         }
         Ok((e, depth))
+    }
+
+    /// `n`, or, when a node over it would reach [`MAX_TREE_DEPTH`], a reference to a new
+    /// hidden binding of it (so a hidden binding's tree is shallower than the limit, and
+    /// its printed text parses back without new ones).
+    fn shallow(&mut self, n: Node) -> Node {
+        let (e, d) = n;
+        if d + 1 < MAX_TREE_DEPTH {
+            return (e, d);
+        }
+        let prefix = self.hidden_prefix.get_or_insert_with(|| {
+            let mut prefix = String::from("_h");
+            while self
+                .toks
+                .iter()
+                .any(|t| matches!(&t.tok, Tok::Name(n) if n.starts_with(prefix.as_str())))
+            {
+                prefix.insert(0, '_');
+            }
+            prefix
+        });
+        let name = format!("{prefix}{}", self.names.len());
+        (Expr::Ref(self.bind(name, e)), 1)
+    }
+
+    /// The node `l op r`, its operands made shallow.
+    fn join(&mut self, op: BinOp, l: Node, r: Node, pos: usize) -> Result<Node, ParseError> {
+        let (l, ld) = self.shallow(l);
+        let (r, rd) = self.shallow(r);
+        self.node(Expr::bin(op, l, r), 1 + ld.max(rd), pos)
+    }
+
+    /// Appends the binding `name = expr` and returns its index.
+    fn bind(&mut self, name: String, expr: Expr) -> usize {
+        let i = self.names.len();
+        self.index.insert(name.clone(), i);
+        self.names.push(name.clone());
+        self.consts.push(folded_const(&expr, &self.consts));
+        self.bindings.push(Binding { name, expr });
+        i
     }
 
     fn program(&mut self) -> Result<Program, ParseError> {
         if self.peek().tok == Tok::End {
             return self.err_at(0, "empty formula");
         }
-        let mut bindings: Vec<Binding> = Vec::new();
         while let (Tok::Name(name), Tok::Sym('=')) = (&self.peek().tok, &self.peek_at(1).tok) {
             let name = name.clone();
             let pos = self.peek().pos;
@@ -330,10 +383,7 @@ impl Parser<'_> {
                 return self.expected(&format!("';' after the binding of '{name}'"));
             }
             self.bump();
-            self.index.insert(name.clone(), self.names.len());
-            self.names.push(name.clone());
-            self.consts.push(folded_const(&expr, &self.consts));
-            bindings.push(Binding { name, expr });
+            self.bind(name, expr);
             if self.peek().tok == Tok::End {
                 return self.expected("the final expression after the bindings");
             }
@@ -352,7 +402,10 @@ impl Parser<'_> {
         if self.peek().tok != Tok::End {
             return self.expected_operator("an operator or end of input");
         }
-        Ok(Program { bindings, body })
+        Ok(Program {
+            bindings: std::mem::take(&mut self.bindings),
+            body,
+        })
     }
 
     fn union(&mut self) -> Result<Node, ParseError> {
@@ -360,8 +413,8 @@ impl Parser<'_> {
         let (mut e, mut d) = self.inter()?;
         while self.is_sym('|') {
             let pos = self.bump().pos;
-            let (r, rd) = self.inter()?;
-            (e, d) = self.node(Expr::bin(BinOp::Union, e, r), 1 + d.max(rd), pos)?;
+            let r = self.inter()?;
+            (e, d) = self.join(BinOp::Union, (e, d), r, pos)?;
         }
         self.nesting -= 1;
         Ok((e, d))
@@ -376,8 +429,8 @@ impl Parser<'_> {
                 _ => return Ok((e, d)),
             };
             let pos = self.bump().pos;
-            let (r, rd) = self.sum()?;
-            (e, d) = self.node(Expr::bin(op, e, r), 1 + d.max(rd), pos)?;
+            let r = self.sum()?;
+            (e, d) = self.join(op, (e, d), r, pos)?;
         }
     }
 
@@ -390,8 +443,8 @@ impl Parser<'_> {
                 _ => return Ok((e, d)),
             };
             let pos = self.bump().pos;
-            let (r, rd) = self.product()?;
-            (e, d) = self.node(Expr::bin(op, e, r), 1 + d.max(rd), pos)?;
+            let r = self.product()?;
+            (e, d) = self.join(op, (e, d), r, pos)?;
         }
     }
 
@@ -413,7 +466,7 @@ impl Parser<'_> {
                     "division by zero: the divisor is the constant 0 (after folding)",
                 );
             }
-            (e, d) = self.node(Expr::bin(op, e, r), 1 + d.max(rd), pos)?;
+            (e, d) = self.join(op, (e, d), (r, rd), pos)?;
         }
     }
 
@@ -421,8 +474,9 @@ impl Parser<'_> {
         if self.is_sym('-') {
             let pos = self.bump().pos;
             self.enter()?;
-            let (e, d) = self.unary()?;
+            let a = self.unary()?;
             self.nesting -= 1;
+            let (e, d) = self.shallow(a);
             return self.node(Expr::neg(e), d + 1, pos);
         }
         self.power()
@@ -431,6 +485,7 @@ impl Parser<'_> {
     fn power(&mut self) -> Result<Node, ParseError> {
         let (e, d) = self.primary()?;
         if self.is_sym('^') {
+            let (e, d) = self.shallow((e, d));
             let pos = self.bump().pos;
             let n = self.exponent(0)?;
             return self.node(Expr::pow(e, n as i32), d + 1, pos);
@@ -583,7 +638,8 @@ impl Parser<'_> {
         let mut depth = 0;
         if !self.is_sym(')') {
             loop {
-                let (a, d) = self.union()?;
+                let a = self.union()?;
+                let (a, d) = self.shallow(a);
                 args.push(a);
                 depth = depth.max(d);
                 if self.is_sym(',') {
@@ -664,6 +720,8 @@ pub fn parse_program(src: &str) -> Result<Program, ParseError> {
         names: Vec::new(),
         index: HashMap::new(),
         consts: Vec::new(),
+        bindings: Vec::new(),
+        hidden_prefix: None,
     };
     p.program()
 }
