@@ -7,6 +7,7 @@
 
 pub mod appendix_a;
 pub mod formula;
+pub mod hyperfun;
 pub mod noise;
 pub mod progressive;
 

@@ -32,6 +32,7 @@ mod tape;
 
 pub use ast::{BinOp, Binding, Expr, Func, Program, Var};
 pub use parse::{parse_program, ParseError, MAX_EXPONENT, MAX_NESTING, MAX_TREE_DEPTH};
+pub(crate) use tape::folded_const;
 pub use tape::{CompileError, Instr, Op, Tape, EPS};
 
 use crate::shape::Shape;

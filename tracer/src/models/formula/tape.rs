@@ -651,7 +651,7 @@ impl Builder {
 
 /// The value of `e` if compilation folds it to a constant (the same rules as
 /// [`Tape::compile`]), `binds` holding the constant value, if any, of each binding.
-pub(super) fn folded_const(e: &Expr, binds: &[Option<f64>]) -> Option<f64> {
+pub(crate) fn folded_const(e: &Expr, binds: &[Option<f64>]) -> Option<f64> {
     match e {
         Expr::Num(c) => Some(*c),
         Expr::Var(_) => None,
@@ -686,6 +686,16 @@ pub(super) fn folded_const(e: &Expr, binds: &[Option<f64>]) -> Option<f64> {
                 // Handled above.
                 _ => None,
             }
+        }
+        Expr::Bin(op @ (BinOp::And | BinOp::Or), a, b) => {
+            // One operand that decides is enough, as in the compiler.
+            let (fa, fb) = (folded_const(a, binds), folded_const(b, binds));
+            let holds = |v: Option<f64>| v.map(|c| c.abs() >= EPS);
+            let decide = *op == BinOp::Or;
+            if holds(fa) == Some(decide) || holds(fb) == Some(decide) {
+                return Some(if decide { 1.0 } else { 0.0 });
+            }
+            fold_bin(*op, fa?, fb?)
         }
         Expr::Bin(op, a, b) => fold_bin(*op, folded_const(a, binds)?, folded_const(b, binds)?),
     }
