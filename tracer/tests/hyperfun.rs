@@ -32,13 +32,6 @@ fn close(a: f64, b: f64) -> bool {
 const SENTINEL: f64 = -1111111111111.0;
 const EPS: f64 = 1e-6;
 
-fn r_int(a: f64, b: f64) -> f64 {
-    a + b - (a * a + b * b).sqrt()
-}
-fn r_uni(a: f64, b: f64) -> f64 {
-    a + b + (a * a + b * b).sqrt()
-}
-
 /// One primitive: HyperFun call text (with `x` the coordinates and `c` the array
 /// `[c1, c2, c3]`), and the reference value from the same numbers.
 struct Prim {

@@ -3,7 +3,8 @@
 //! shows works everywhere. Each source turns its input into an [`AnyShape`] with a
 //! domain box and a default view: [`appendix_a`] (the revised-affine paper's models),
 //! [`progressive`] (the progressive-refinement paper's models, with [`noise`]) and
-//! [`formula`] (formulas parsed from text into a tape).
+//! [`formula`] (formulas parsed from text into a tape) and [`hyperfun`] (HyperFun
+//! programs compiled onto the same tape).
 
 pub mod appendix_a;
 pub mod formula;
@@ -75,6 +76,24 @@ impl Model {
         Ok(Model {
             name: "expr".into(),
             description: text.trim().to_string(),
+            shape: AnyShape::Expr(tape),
+            domain,
+            view,
+            lipschitz: None,
+        })
+    }
+
+    /// A model of the HyperFun program `text` (see [`hyperfun`]; its `my_model`, else
+    /// its first body) over `domain`, by default HyperFun's `[-10, 10]^3` (the `hfp`
+    /// polygonizer's default box), viewed by [`crate::camera::frame_box`] of the domain.
+    /// Errors: the program's error (line and column), or a domain too large to frame.
+    pub fn hyperfun(text: &str, domain: Option<Aabb>) -> Result<Model, String> {
+        let tape = hyperfun::parse_hyperfun(text).map_err(|e| e.to_string())?;
+        let domain = domain.unwrap_or(Aabb::cube(10.0));
+        let view = crate::camera::frame_box(&domain)?;
+        Ok(Model {
+            name: "hyperfun".into(),
+            description: "a HyperFun program".into(),
             shape: AnyShape::Expr(tape),
             domain,
             view,
