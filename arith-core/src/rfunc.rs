@@ -45,6 +45,25 @@ pub fn blend_union<R: Real>(f1: R, f2: R) -> R {
     f1 + f2 + r
 }
 
+/// HyperFun's `hfBlendUni(f1, f2, a0, a1, a2)`: the union plus the displacement
+/// `a0 / (1 + (f1/a1)^2 + (f2/a2)^2)`, in the library's order of operations.
+pub fn hf_blend_union<R: Real>(f1: R, f2: R, a0: f64, a1: f64, a2: f64) -> R {
+    let d = hf_blend_displacement(&f1, &f2, a0, a1, a2);
+    union(f1, f2) + d
+}
+
+/// HyperFun's `hfBlendInt(f1, f2, a0, a1, a2)`: the intersection plus the same
+/// displacement as [`hf_blend_union`].
+pub fn hf_blend_intersect<R: Real>(f1: R, f2: R, a0: f64, a1: f64, a2: f64) -> R {
+    let d = hf_blend_displacement(&f1, &f2, a0, a1, a2);
+    intersect(f1, f2) + d
+}
+
+fn hf_blend_displacement<R: Real>(f1: &R, f2: &R, a0: f64, a1: f64, a2: f64) -> R {
+    let s = (f1.clone() / a1).sqr() + 1.0 + (f2.clone() / a2).sqr();
+    s.rdiv(a0)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

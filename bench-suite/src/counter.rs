@@ -23,6 +23,11 @@
 //! squares, two squares of sums and one product), and its CSG row, where the 8 square
 //! roots of the R-functions are the difference 40 − 32.
 //!
+//! A counter is a point ([`Real::known`]), so a formula tape's comparisons and `if`
+//! selections decide at once; they call no counted operation and count 0 (the
+//! arithmetic computing their operands counts as usual), and a tape evaluates both
+//! branches of an `if`, so both count.
+//!
 //! Counting is per thread: [`count_ops`] resets the calling thread's counters, runs the
 //! closure and returns what it did.
 
@@ -179,6 +184,10 @@ impl Real for Counter {
     fn rdiv(self, c: f64) -> Self {
         tick(Kind::NonAffine);
         Counter(c / self.0)
+    }
+    /// A counter evaluates at a point: conditionals pick their branch, noise its value.
+    fn known(&self) -> arith_core::Known {
+        arith_core::Known::Point(self.0)
     }
 }
 

@@ -4,11 +4,9 @@
 use super::masks::SIGN_SAMPLES;
 use super::{median, Cell, Report, Row};
 use crate::chart::{self, Bar, Group};
-use crate::paper;
 use std::fmt::Write as _;
 use std::path::Path;
 use tracer::arith::ArithKind;
-use tracer::models::PaperModel;
 
 pub(super) fn write(path: &Path, bytes: &[u8]) -> Result<(), String> {
     std::fs::write(path, bytes).map_err(|e| format!("cannot write '{}': {e}", path.display()))
@@ -137,20 +135,6 @@ pub fn markdown(r: &Report) -> String {
             }
         }
         let _ = writeln!(s, " {} |", mask_summary(row));
-    }
-    if !o.models.is_empty() && o.models.len() == PaperModel::ALL.len() {
-        if let Some(p) = paper::TABLE1.iter().find(|p| p.label == "Virtual Shikki") {
-            let _ = write!(s, "| {} | n/a | n/a | {} |", p.label, p.ops);
-            for _ in &r.kinds {
-                s.push_str(" n/a |");
-            }
-            if r.kinds.contains(&ArithKind::Revaa) {
-                for _ in 1..r.kinds.len() {
-                    s.push_str(" n/a |");
-                }
-            }
-            let _ = writeln!(s, " source not available |");
-        }
     }
     if r.interrupted {
         let _ = writeln!(

@@ -7,7 +7,9 @@
 
 use super::{AnyShape, Model};
 use crate::shape::{Aabb, Shape, View};
-use arith_core::rfunc::{blend_intersect, blend_union, intersect, subtract, union};
+use arith_core::rfunc::{
+    blend_intersect, blend_union, hf_blend_intersect, hf_blend_union, intersect, subtract, union,
+};
 use arith_core::Real;
 use glam::DVec3;
 
@@ -24,28 +26,37 @@ pub enum PaperModel {
     Csg,
     /// A spherical shell trimmed by a procedural band (our model).
     SphereTrimming,
-    /// A sphere with sine noise.
+    /// A sphere with sine noise, read as the authors' code has it (per-axis terms).
     SphereNoise,
-    /// CSG with the paper's blending union and intersection.
+    /// The sphere with sine noise exactly as Appendix A prints it.
+    SphereNoisePrinted,
+    /// CSG with blending union and intersection, HyperFun's `hfBlendUni`/`hfBlendInt`.
     CsgBlending,
+    /// CSG with blending as Appendix A prints it, read literally.
+    CsgBlendingPrinted,
     /// Hair: thin sine-modulated strands.
     Hair,
     /// A hemispherical shell with a sine microstructure.
     SphereMicrostructure,
+    /// Virtual Shikki: a sake set on a table, the HyperFun program `models/shikki.hf`.
+    Shikki,
 }
 
 impl PaperModel {
     /// Every model, in the order of the paper's Table 1.
-    pub const ALL: [PaperModel; 9] = [
+    pub const ALL: [PaperModel; 12] = [
         PaperModel::Mitchell,
         PaperModel::Bretzel,
         PaperModel::Decocube,
         PaperModel::Csg,
         PaperModel::SphereTrimming,
         PaperModel::SphereNoise,
+        PaperModel::SphereNoisePrinted,
         PaperModel::CsgBlending,
+        PaperModel::CsgBlendingPrinted,
         PaperModel::Hair,
         PaperModel::SphereMicrostructure,
+        PaperModel::Shikki,
     ];
 
     /// Command-line name.
@@ -57,9 +68,12 @@ impl PaperModel {
             PaperModel::Csg => "csg",
             PaperModel::SphereTrimming => "sphere-trimming",
             PaperModel::SphereNoise => "sphere-noise",
+            PaperModel::SphereNoisePrinted => "sphere-noise-printed",
             PaperModel::CsgBlending => "csg-blending",
+            PaperModel::CsgBlendingPrinted => "csg-blending-printed",
             PaperModel::Hair => "hair",
             PaperModel::SphereMicrostructure => "sphere-microstructure",
+            PaperModel::Shikki => "shikki",
         }
     }
 
@@ -68,9 +82,11 @@ impl PaperModel {
         match self {
             PaperModel::Mitchell | PaperModel::Bretzel | PaperModel::Decocube => (1280, 1024),
             PaperModel::SphereTrimming => (1024, 768),
-            PaperModel::SphereNoise => (800, 600),
+            PaperModel::SphereNoise | PaperModel::SphereNoisePrinted => (800, 600),
+            PaperModel::Shikki => (320, 240),
             PaperModel::Csg
             | PaperModel::CsgBlending
+            | PaperModel::CsgBlendingPrinted
             | PaperModel::Hair
             | PaperModel::SphereMicrostructure => (640, 480),
         }
@@ -85,18 +101,22 @@ impl PaperModel {
             }
             PaperModel::Csg => "b | (s & ((c1\\c2)|(c3\\c4)) \\ c5): box, sphere and four cylinders",
             PaperModel::SphereTrimming => "((1-r^2) \\ (0.94-r^2)) & (0.3 - |gyroid(5x,5y,5z)|): shell trimmed to thin ribbons",
-            PaperModel::SphereNoise => "81 - x^2 - y^2 - z^2 + product of three sine-noise factors (as printed)",
-            PaperModel::CsgBlending => "(((c1 vb c2) ^b s) vb b) ^b (-c3) with the paper's blends",
+            PaperModel::SphereNoise => "81 - x^2 - y^2 - z^2 + product of three per-axis sine-noise factors (the authors' code)",
+            PaperModel::SphereNoisePrinted => "81 - x^2 - y^2 - z^2 + product of three sine-noise factors (as printed)",
+            PaperModel::CsgBlending => "(((c1 vb c2) ^b s) vb b) ^b (-c3) with vb = hfBlendUni, ^b = hfBlendInt (0.5, 1, 1)",
+            PaperModel::CsgBlendingPrinted => "(((c1 vb c2) ^b s) vb b) ^b (-c3) with the paper's blends, read literally",
             PaperModel::Hair => "o | ((hair pattern - 10) & (o + 2) & y): ellipsoid head with procedural hair",
             PaperModel::SphereMicrostructure => "((ball & lattice of bars) | shell) & (-z)",
+            PaperModel::Shikki => "stand | cup | sake pot | table: the HyperFun program models/shikki.hf",
         }
     }
 
     /// The function in the formula language of `--expr` (see [`super::formula`]), written
     /// to evaluate in the same order as the Rust below, so that at points it gives the
-    /// same values bit for bit (`tracer list` prints it).
-    pub fn formula(self) -> &'static str {
-        match self {
+    /// same values bit for bit (`tracer list` prints it); `None` for the models that have
+    /// no such text.
+    pub fn formula(self) -> Option<&'static str> {
+        Some(match self {
             PaperModel::Mitchell => {
                 "x2 = x^2; yz = y^2 + z^2; (x2 + yz) * 20 - (x2^2 + yz^2) * 4 - x2 * yz * 17 - 17"
             }
@@ -121,12 +141,12 @@ impl PaperModel {
                  g = sin(x5) * cos(y5) + sin(y5) * cos(z5) + sin(z5) * cos(x5); \
                  shell & (0.3 - abs(g))"
             }
-            PaperModel::SphereNoise => {
+            PaperModel::SphereNoisePrinted => {
                 "sx = sin(x * 1.5); sy = sin(y * 1.5); w = sin(x * 1.111 + sx * 1.1); \
                  f1 = sx * 3.8 + w * 1.624; f2 = sy * 3.8 + w * 1.299; f3 = sy * 3.8 + w * 2.598; \
                  81 - (x^2 + y^2 + z^2) + f1 * f2 * f3"
             }
-            PaperModel::CsgBlending => {
+            PaperModel::CsgBlendingPrinted => {
                 "x2 = x^2; y2 = y^2; z2 = z^2; b = (0.36 - x2) & (0.36 - y2) & (0.36 - z2); \
                  s = 0.7056 - (x2 + y2 + z2); \
                  c1 = 0.09 - (y2 + z2); c2 = 0.09 - (x2 + z2); c3 = 0.25 - (x2 + y2); \
@@ -151,7 +171,12 @@ impl PaperModel {
                  lattice = (sy & sz) | (sx & sz) | (sx & sy); shell = ball \\ (0.75 - r2); \
                  ((ball & lattice) | shell) & -z"
             }
-        }
+            // Written in the HyperFun subset or with the library's blends: no formula
+            // text that evaluates in the same order yet.
+            PaperModel::SphereNoise | PaperModel::CsgBlending | PaperModel::Shikki => {
+                return None
+            }
+        })
     }
 
     /// Domain box: the function is considered inside it only.
@@ -164,11 +189,16 @@ impl PaperModel {
             PaperModel::Decocube => Aabb::cube(1.2),
             PaperModel::Csg => Aabb::cube(0.9),
             PaperModel::SphereTrimming => Aabb::cube(1.05),
-            PaperModel::SphereNoise => Aabb::new(
+            PaperModel::SphereNoise => Aabb::cube(15.0),
+            PaperModel::SphereNoisePrinted => Aabb::new(
                 DVec3::new(-13.0, -13.5, -16.5),
                 DVec3::new(12.0, 15.0, 16.5),
             ),
-            PaperModel::CsgBlending => Aabb::cube(1.0),
+            PaperModel::CsgBlending => Aabb::cube(1.15),
+            PaperModel::CsgBlendingPrinted => Aabb::cube(1.0),
+            PaperModel::Shikki => {
+                Aabb::new(DVec3::new(-20.5, -4.5, -13.0), DVec3::new(20.5, 17.5, 13.0))
+            }
             PaperModel::Hair => Aabb::new(DVec3::new(-7.0, -6.2, -7.0), DVec3::new(7.0, 10.5, 7.0)),
             PaperModel::SphereMicrostructure => Aabb::new(
                 DVec3::new(-1.05, -1.05, -1.05),
@@ -187,8 +217,13 @@ impl PaperModel {
             PaperModel::Decocube => (DVec3::ZERO, DVec3::new(1.0, 0.8, 1.6), 1.25),
             PaperModel::Csg => (DVec3::ZERO, DVec3::new(1.0, 0.8, 1.6), 0.95),
             PaperModel::SphereTrimming => (DVec3::ZERO, DVec3::new(0.6, 0.5, 1.6), 1.0),
-            PaperModel::SphereNoise => (DVec3::new(0.0, 0.5, 0.0), DVec3::new(0.7, 0.5, 1.6), 15.0),
-            PaperModel::CsgBlending => (DVec3::ZERO, DVec3::new(1.0, 0.8, 1.6), 1.2),
+            PaperModel::SphereNoise => (DVec3::ZERO, DVec3::new(0.7, 0.5, 1.6), 15.0),
+            PaperModel::SphereNoisePrinted => {
+                (DVec3::new(0.0, 0.5, 0.0), DVec3::new(0.7, 0.5, 1.6), 15.0)
+            }
+            PaperModel::CsgBlending => (DVec3::ZERO, DVec3::new(1.0, 0.8, 1.6), 1.1),
+            PaperModel::CsgBlendingPrinted => (DVec3::ZERO, DVec3::new(1.0, 0.8, 1.6), 1.2),
+            PaperModel::Shikki => (DVec3::new(0.0, 4.0, 0.0), DVec3::new(0.35, 0.55, 1.6), 21.0),
             PaperModel::Hair => (DVec3::new(0.0, 2.0, 0.0), DVec3::new(0.8, 0.35, 1.6), 9.0),
             PaperModel::SphereMicrostructure => {
                 (DVec3::new(0.0, 0.0, -0.3), DVec3::new(0.6, 0.7, 1.6), 1.05)
@@ -228,11 +263,33 @@ impl Shape for PaperModel {
             PaperModel::Csg => csg(x, y, z),
             PaperModel::SphereTrimming => sphere_trimming(x, y, z),
             PaperModel::SphereNoise => sphere_noise(x, y, z),
+            PaperModel::SphereNoisePrinted => sphere_noise_printed(x, y, z),
             PaperModel::CsgBlending => csg_blending(x, y, z),
+            PaperModel::CsgBlendingPrinted => csg_blending_printed(x, y, z),
             PaperModel::Hair => hair(x, y, z),
             PaperModel::SphereMicrostructure => sphere_microstructure(x, y, z),
+            PaperModel::Shikki => match shikki_tape() {
+                Some(t) => t.eval(x, y, z),
+                None => R::constant(-1.0),
+            },
         }
     }
+
+    fn packs(&self) -> bool {
+        // The scene's conditionals look at their values (see `formula::Tape::packs`).
+        !matches!(self, PaperModel::Shikki)
+    }
+}
+
+/// The HyperFun source of Virtual Shikki, shipped as `models/shikki.hf`.
+pub const SHIKKI_HF: &str = include_str!("../../../models/shikki.hf");
+
+/// Virtual Shikki compiled once; `None` only if the shipped file did not compile, which
+/// a test rules out.
+pub fn shikki_tape() -> Option<&'static super::formula::Tape> {
+    static TAPE: std::sync::OnceLock<Option<super::formula::Tape>> = std::sync::OnceLock::new();
+    TAPE.get_or_init(|| super::hyperfun::parse_hyperfun(SHIKKI_HF).ok())
+        .as_ref()
 }
 
 /// Mitchell: `f = 20(x^2+y^2+z^2) - 4(x^4+(y^2+z^2)^2) - 17x^2(y^2+z^2) - 17`.
@@ -287,7 +344,30 @@ pub fn csg<R: Real>(x: R, y: R, z: R) -> R {
     union(b, subtract(intersect(s, tubes), c5))
 }
 
-/// CSG with blending: `f = (((c1 vb c2) ^b s) vb b) ^b (-c3)`, where `b` and `s` are as in
+/// CSG with blending in the standard reading: `f = (((c1 vb c2) ^b s) vb b) ^b (-c3)` with
+/// `vb` HyperFun's blending union `hfBlendUni` and `^b` its blending intersection
+/// `hfBlendInt` (`f1 | f2` or `f1 & f2` plus `a0 / (1 + (f1/a1)^2 + (f2/a2)^2)`), with the
+/// printed formula's `a0 = 0.5`, `a1 = a2 = 1`; `b`, `s`, `c1`, `c2`, `c3` as in
+/// [`csg_blending_printed`]. Read so, `∨` is a union and `∧` an intersection as in logic
+/// (two blended tubes, clipped by the ball, blended onto the box, a vertical hole cut
+/// out), and the solid is bounded; the printed text calls the minus form "blending
+/// intersection" and writes the displacement inside the square root, which
+/// [`csg_blending_printed`] keeps.
+pub fn csg_blending<R: Real>(x: R, y: R, z: R) -> R {
+    let (x2, y2, z2) = (x.sqr(), y.sqr(), z.sqr());
+    let b = csg_box(&x2, &y2, &z2);
+    let s = (x2.clone() + y2.clone() + z2.clone()).rsub(0.7056);
+    let c1 = (y2.clone() + z2.clone()).rsub(0.09);
+    let c2 = (x2.clone() + z2).rsub(0.09);
+    let c3 = (x2 + y2).rsub(0.25);
+    let (a0, a1, a2) = (0.5, 1.0, 1.0);
+    let f = hf_blend_union(c1, c2, a0, a1, a2);
+    let f = hf_blend_intersect(f, s, a0, a1, a2);
+    let f = hf_blend_union(f, b, a0, a1, a2);
+    hf_blend_intersect(f, -c3, a0, a1, a2)
+}
+
+/// CSG with blending as printed: `f = (((c1 vb c2) ^b s) vb b) ^b (-c3)`, where `b` and `s` are as in
 /// [`csg`], `c1 = 0.09-y^2-z^2`, `c2 = 0.09-x^2-z^2`, `c3 = 0.25-x^2-y^2`, and, as the
 /// paper defines them, `f1 vb f2 = f1 + f2 - sqrt(f1^2 + f2^2 + 0.5/(1 + f1^2 + f2^2))`
 /// ("blending intersection", [`blend_intersect`]) and `f1 ^b f2` the same with `+`
@@ -300,7 +380,7 @@ pub fn csg<R: Real>(x: R, y: R, z: R) -> R {
 /// intersection in order of application is bounded); the domain box clips it, so rays
 /// enter the domain inside the solid and the picture shows the boundaries of the holes
 /// (the cylinder and the blended voids) rather than a closed object.
-pub fn csg_blending<R: Real>(x: R, y: R, z: R) -> R {
+pub fn csg_blending_printed<R: Real>(x: R, y: R, z: R) -> R {
     let (x2, y2, z2) = (x.sqr(), y.sqr(), z.sqr());
     let b = csg_box(&x2, &y2, &z2);
     let s = (x2.clone() + y2.clone() + z2.clone()).rsub(0.7056);
@@ -313,14 +393,33 @@ pub fn csg_blending<R: Real>(x: R, y: R, z: R) -> R {
     )
 }
 
+/// Sphere with noise as the authors' code computes it (HyperFun's Gardner-series noise
+/// `hfNoiseG` with amplitude 3.8, frequency 1.5 and phase 1.1, as the public OpenCL
+/// transcription of their scenes has it): every factor has its own axis, and each
+/// inner sine is phase-shifted by the sine of the previous axis,
+/// `f = 81 - x^2 - y^2 - z^2 + (3.8 sin(1.5x) + 1.624 sin(1.111x + 1.1 sin(1.5z)))
+///    * (3.8 sin(1.5y) + 1.299 sin(1.111y + 1.1 sin(1.5x)))
+///    * (3.8 sin(1.5z) + 2.598 sin(1.111z + 1.1 sin(1.5y)))`,
+/// with the printed constants (`1.624 = 0.5 * 3.8/1.17`, `1.111 = 1.5/1.35`, ...). Its
+/// operation count is the paper's, 36 / 11 / 5.
+pub fn sphere_noise<R: Real>(x: R, y: R, z: R) -> R {
+    let sx = (x.clone() * 1.5).sin();
+    let sy = (y.clone() * 1.5).sin();
+    let sz = (z.clone() * 1.5).sin();
+    let fx = sx.clone() * 3.8 + (x.clone() * 1.111 + sz.clone() * 1.1).sin() * 1.624;
+    let fy = sy.clone() * 3.8 + (y.clone() * 1.111 + sx * 1.1).sin() * 1.299;
+    let fz = sz * 3.8 + (z.clone() * 1.111 + sy * 1.1).sin() * 2.598;
+    (x.sqr() + y.sqr() + z.sqr()).rsub(81.0) + fx * fy * fz
+}
+
 /// Sphere with noise, transcribed exactly as printed:
 /// `f = 81 - x^2 - y^2 - z^2 + (3.8 sin(1.5x) + sin(1.111x + 1.1 sin(1.5x)) * 1.624)
 ///    * (3.8 sin(1.5y) + sin(1.111x + 1.1 sin(1.5x)) * 1.299)
 ///    * (3.8 sin(1.5y) + sin(1.111x + 1.1 sin(1.5x)) * 2.598)`.
 ///
-/// (The printed noise depends on `x` and `y` only; the paper's operation count suggests
-/// per-axis terms were meant, but we keep the printed text.)
-pub fn sphere_noise<R: Real>(x: R, y: R, z: R) -> R {
+/// The printed noise depends on `x` and `y` only (its render is a cloud of spindles);
+/// [`sphere_noise`] is the reading of the authors' code.
+pub fn sphere_noise_printed<R: Real>(x: R, y: R, z: R) -> R {
     let sx = (x.clone() * 1.5).sin();
     let sy = (y.clone() * 1.5).sin();
     let w = (x.clone() * 1.111 + sx.clone() * 1.1).sin();
@@ -411,6 +510,16 @@ mod tests {
         assert!(sphere_noise(0.0, 0.0, 0.0) > 0.0 && sphere_noise(0.0, 0.0, 16.0) < 0.0);
         assert!(hair(0.1, 0.2, 0.1) > 0.0 && hair(0.0, 0.0, 6.9) < 0.0);
         assert!(bretzel(0.0, 0.0, 0.0) > 0.0 && bretzel(0.0, 0.0, 0.3) < 0.0);
+    }
+
+    #[test]
+    fn shikki_compiles_and_branches() {
+        let t = shikki_tape().expect("models/shikki.hf compiles");
+        assert!(t.has_branches() && !PaperModel::Shikki.packs());
+        // Inside the table top and the pot's body; outside high above the scene.
+        assert!(PaperModel::Shikki.eval(0.0, -0.75, 0.0) > 0.0);
+        assert!(PaperModel::Shikki.eval(11.0, 4.5, 0.0) > 0.0);
+        assert!(PaperModel::Shikki.eval(0.0, 30.0, 0.0) < 0.0);
     }
 
     #[test]

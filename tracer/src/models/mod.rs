@@ -5,12 +5,13 @@
 //! revised-affine paper's models), [`progressive`] (the progressive-refinement paper's
 //! models, with [`noise`]), [`formula`] (formulas parsed from text into a tape) and the
 //! model files of [`FORMATS`]: formula files (`.expr`), fidget tapes ([`vm`], `.vm`)
-//! and HyperFun (`.hf`), each read by one parse function. A file's [`header`] may
-//! state its domain and view.
+//! and HyperFun programs ([`hyperfun`], `.hf`, compiled onto the same tape), each read
+//! by one parse function. A file's [`header`] may state its domain and view.
 
 pub mod appendix_a;
 pub mod formula;
 pub mod header;
+pub mod hyperfun;
 pub mod noise;
 pub mod progressive;
 pub mod vm;
@@ -39,7 +40,7 @@ impl AnyShape {
     /// the source has one (the noise models have none).
     pub fn formula(&self) -> Option<String> {
         match self {
-            AnyShape::Paper(m) => Some(m.formula().to_string()),
+            AnyShape::Paper(m) => m.formula().map(str::to_string),
             AnyShape::Gm(m) => m.formula(),
             AnyShape::Expr(t) => Some(t.to_formula()),
         }
@@ -92,6 +93,24 @@ impl Model {
         Ok(Model {
             name: "expr".into(),
             description: text.trim().to_string(),
+            shape: AnyShape::Expr(tape),
+            domain,
+            view,
+            lipschitz: None,
+        })
+    }
+
+    /// A model of the HyperFun program `text` (see [`hyperfun`]; its `my_model`, else
+    /// its first body) over `domain`, by default HyperFun's `[-10, 10]^3` (the `hfp`
+    /// polygonizer's default box), viewed by [`crate::camera::frame_box`] of the domain.
+    /// Errors: the program's error (line and column), or a domain too large to frame.
+    pub fn hyperfun(text: &str, domain: Option<Aabb>) -> Result<Model, String> {
+        let tape = hyperfun::parse_hyperfun(text).map_err(|e| e.to_string())?;
+        let domain = domain.unwrap_or(Aabb::cube(hyperfun::DEFAULT_DOMAIN));
+        let view = crate::camera::frame_box(&domain)?;
+        Ok(Model {
+            name: "hyperfun".into(),
+            description: "a HyperFun program".into(),
             shape: AnyShape::Expr(tape),
             domain,
             view,
@@ -204,10 +223,18 @@ fn vm_file(text: &str, path: &str) -> Result<Model, String> {
     })
 }
 
-fn hf_file(_text: &str, path: &str) -> Result<Model, String> {
-    Err(format!(
-        "{path}: HyperFun support is not built in this version"
-    ))
+fn hf_file(text: &str, path: &str) -> Result<Model, String> {
+    let tape = hyperfun::parse_hyperfun(text)
+        .map_err(|e| format!("{path}:{}:{}: {}", e.line, e.column, e.message))?;
+    let domain = Aabb::cube(hyperfun::DEFAULT_DOMAIN);
+    Ok(Model {
+        name: file_stem(path),
+        description: format!("HyperFun program {path} ({} instructions)", tape.len()),
+        shape: AnyShape::Expr(tape),
+        domain,
+        view: crate::camera::frame_box(&domain)?,
+        lipschitz: None,
+    })
 }
 
 /// The name standing for standard input in [`load`].

@@ -49,11 +49,28 @@ pub enum Func {
     Min,
     /// `max` of two arguments.
     Max,
+    /// `if(c, a, b)`: `a` where the condition `c` holds (`|c| >= 1e-6`, HyperFun's
+    /// truth test), else `b`.
+    If,
+    /// `not(c)`: 1 where `c` does not hold, else 0.
+    Not,
+    /// `blend_union(a, b)`: the revised-affine paper's blending union
+    /// (`arith_core::rfunc::blend_union`).
+    BlendUnion,
+    /// `blend_intersect(a, b)`: the paper's blending intersection
+    /// (`arith_core::rfunc::blend_intersect`).
+    BlendIntersect,
+    /// `hf_blend_union(a, b, a0, a1, a2)`: HyperFun's `hfBlendUni`,
+    /// `a | b + a0 / (1 + (a/a1)^2 + (b/a2)^2)`.
+    HfBlendUnion,
+    /// `hf_blend_intersect(a, b, a0, a1, a2)`: HyperFun's `hfBlendInt`,
+    /// `a & b + a0 / (1 + (a/a1)^2 + (b/a2)^2)`.
+    HfBlendIntersect,
 }
 
 impl Func {
     /// Every function, for lookups and test generators.
-    pub const ALL: [Func; 9] = [
+    pub const ALL: [Func; 15] = [
         Func::Sqrt,
         Func::Sqr,
         Func::Exp,
@@ -63,6 +80,12 @@ impl Func {
         Func::Abs,
         Func::Min,
         Func::Max,
+        Func::If,
+        Func::Not,
+        Func::BlendUnion,
+        Func::BlendIntersect,
+        Func::HfBlendUnion,
+        Func::HfBlendIntersect,
     ];
 
     /// Its name in formulas.
@@ -77,13 +100,21 @@ impl Func {
             Func::Abs => "abs",
             Func::Min => "min",
             Func::Max => "max",
+            Func::If => "if",
+            Func::Not => "not",
+            Func::BlendUnion => "blend_union",
+            Func::BlendIntersect => "blend_intersect",
+            Func::HfBlendUnion => "hf_blend_union",
+            Func::HfBlendIntersect => "hf_blend_intersect",
         }
     }
 
     /// Number of arguments.
     pub fn arity(self) -> usize {
         match self {
-            Func::Min | Func::Max => 2,
+            Func::Min | Func::Max | Func::BlendUnion | Func::BlendIntersect => 2,
+            Func::If => 3,
+            Func::HfBlendUnion | Func::HfBlendIntersect => 5,
             _ => 1,
         }
     }
@@ -111,11 +142,27 @@ pub enum BinOp {
     Union,
     /// R-function subtraction `\`.
     Subtract,
+    /// `a < b`: 1 or 0.
+    Lt,
+    /// `a <= b`: 1 or 0.
+    Le,
+    /// `a > b`: 1 or 0.
+    Gt,
+    /// `a >= b`: 1 or 0.
+    Ge,
+    /// `a == b` within HyperFun's tolerance: `|a - b| < 1e-6`, 1 or 0.
+    Eq,
+    /// `a != b`: `|a - b| >= 1e-6`, 1 or 0.
+    Ne,
+    /// `a and b`: 1 where both hold (`|v| >= 1e-6`), else 0.
+    And,
+    /// `a or b`: 1 where either holds, else 0.
+    Or,
 }
 
 impl BinOp {
     /// Every operator.
-    pub const ALL: [BinOp; 7] = [
+    pub const ALL: [BinOp; 15] = [
         BinOp::Add,
         BinOp::Sub,
         BinOp::Mul,
@@ -123,6 +170,14 @@ impl BinOp {
         BinOp::Intersect,
         BinOp::Union,
         BinOp::Subtract,
+        BinOp::Lt,
+        BinOp::Le,
+        BinOp::Gt,
+        BinOp::Ge,
+        BinOp::Eq,
+        BinOp::Ne,
+        BinOp::And,
+        BinOp::Or,
     ];
 
     /// Its symbol in formulas.
@@ -135,12 +190,23 @@ impl BinOp {
             BinOp::Intersect => "&",
             BinOp::Union => "|",
             BinOp::Subtract => "\\",
+            BinOp::Lt => "<",
+            BinOp::Le => "<=",
+            BinOp::Gt => ">",
+            BinOp::Ge => ">=",
+            BinOp::Eq => "==",
+            BinOp::Ne => "!=",
+            BinOp::And => "and",
+            BinOp::Or => "or",
         }
     }
 
     /// Binding strength; all binary operators are left-associative.
     pub(crate) fn prec(self) -> u8 {
         match self {
+            BinOp::Or => PREC_OR,
+            BinOp::And => PREC_AND,
+            BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge | BinOp::Eq | BinOp::Ne => PREC_CMP,
             BinOp::Union => PREC_UNION,
             BinOp::Intersect | BinOp::Subtract => PREC_INTERSECT,
             BinOp::Add | BinOp::Sub => PREC_SUM,
@@ -149,13 +215,16 @@ impl BinOp {
     }
 }
 
-pub(crate) const PREC_UNION: u8 = 1;
-pub(crate) const PREC_INTERSECT: u8 = 2;
-pub(crate) const PREC_SUM: u8 = 3;
-pub(crate) const PREC_PRODUCT: u8 = 4;
-pub(crate) const PREC_UNARY: u8 = 5;
-pub(crate) const PREC_POWER: u8 = 6;
-pub(crate) const PREC_PRIMARY: u8 = 7;
+pub(crate) const PREC_OR: u8 = 1;
+pub(crate) const PREC_AND: u8 = 2;
+pub(crate) const PREC_CMP: u8 = 3;
+pub(crate) const PREC_UNION: u8 = 4;
+pub(crate) const PREC_INTERSECT: u8 = 5;
+pub(crate) const PREC_SUM: u8 = 6;
+pub(crate) const PREC_PRODUCT: u8 = 7;
+pub(crate) const PREC_UNARY: u8 = 8;
+pub(crate) const PREC_POWER: u8 = 9;
+pub(crate) const PREC_PRIMARY: u8 = 10;
 
 /// An expression.
 #[derive(Clone, Debug, PartialEq)]
@@ -171,6 +240,9 @@ pub enum Expr {
     Neg(Box<Expr>),
     /// `base ^ n`.
     Pow(Box<Expr>, i32),
+    /// `base ^ c` for a finite, non-integer `c`: `exp(c ln(base))`, so 0 (for `c > 0`)
+    /// or `+inf` (for `c < 0`) where `base <= 0`.
+    PowF(Box<Expr>, f64),
     /// A function applied to its arguments.
     Call(Func, Vec<Expr>),
     /// A binary operator applied to two operands.
@@ -197,7 +269,7 @@ impl Expr {
             Expr::Num(c) if c.is_sign_negative() || !c.is_finite() => PREC_PRIMARY,
             Expr::Num(_) | Expr::Var(_) | Expr::Ref(_) | Expr::Call(..) => PREC_PRIMARY,
             Expr::Neg(_) => PREC_UNARY,
-            Expr::Pow(..) => PREC_POWER,
+            Expr::Pow(..) | Expr::PowF(..) => PREC_POWER,
             Expr::Bin(op, ..) => op.prec(),
         }
     }
@@ -238,6 +310,10 @@ impl Program {
             Expr::Pow(a, n) => {
                 self.write_operand(f, a, a.prec() < PREC_PRIMARY)?;
                 write!(f, "^{n}")
+            }
+            Expr::PowF(a, c) => {
+                self.write_operand(f, a, a.prec() < PREC_PRIMARY)?;
+                write!(f, "^{c:?}")
             }
             Expr::Call(func, args) => {
                 write!(f, "{}(", func.name())?;

@@ -26,12 +26,14 @@
 //! ```
 
 mod ast;
+mod branch;
 mod parse;
 mod tape;
 
 pub use ast::{BinOp, Binding, Expr, Func, Program, Var};
 pub use parse::{parse_program, ParseError, MAX_EXPONENT, MAX_NESTING, MAX_TREE_DEPTH};
-pub use tape::{CompileError, Instr, Op, Tape};
+pub(crate) use tape::folded_const;
+pub use tape::{CompileError, Instr, Op, Tape, EPS};
 
 use crate::shape::Shape;
 use arith_core::Real;
@@ -40,15 +42,24 @@ use arith_core::Real;
 macro_rules! syntax_text {
     () => {
         r#"Formula language (f >= 0 inside, f < 0 outside):
-  numbers      2  0.36  .5  1e-3  2.5E+2
+  numbers      2  0.36  .5  1e-3  2.5E+2, and pi (the f64 nearest to pi)
   variables    x  y  z
   arithmetic   + - * / and unary -; a product needs '*': 2*x, 2*(x+1)
-  powers       x^2, x^-2: integer exponents only, right-associative (2^3^2 = 2^9)
-               and tighter than unary minus (-x^2 = -(x^2))
-  functions    sqrt sqr exp ln sin cos abs (one argument), min max (two)
+  powers       x^2, x^-2: integer exponents, right-associative (2^3^2 = 2^9) and
+               tighter than unary minus (-x^2 = -(x^2)); x^2.5, x^-0.5: a real
+               exponent c is exp(c*ln(x)), so 0 (c > 0) or +inf (c < 0) where x <= 0
+  functions    sqrt sqr exp ln sin cos abs not (one argument), min max (two),
+               if(c, a, b): a where c holds, else b
   R-functions  a & b (intersection), a \ b (subtraction), a | b (union): looser than
                arithmetic, & and \ tighter than |, all left-associative:
                a | b & c = a | (b & c), a \ b & c = (a \ b) & c
+  blends       blend_union(a, b), blend_intersect(a, b): the revised-affine paper's
+               a + b +- sqrt(a^2 + b^2 + 0.5/(1 + a^2 + b^2)); HyperFun's
+               hf_blend_union(a, b, a0, a1, a2) = (a | b) + a0/(1 + (a/a1)^2 + (b/a2)^2)
+               and hf_blend_intersect(a, b, a0, a1, a2), the same with a & b
+  comparisons  a < b, <=, >, >=, == and != give 1 or 0 (== and != within 1e-6), looser
+               than |; then a and b, then a or b. A value v holds where |v| >= 1e-6:
+               if(x < 0 and y < 0, x + y, x*y)
   bindings     name = expr; before the final expression, each usable by later ones:
                b = 0.36 - x^2; s = 0.7 - x^2 - y^2; b | s
   comments     # to the end of the line; whitespace and newlines are ignored
@@ -80,5 +91,11 @@ pub fn parse(src: &str) -> Result<Tape, ParseError> {
 impl Shape for Tape {
     fn eval<R: Real>(&self, x: R, y: R, z: R) -> R {
         Tape::eval(self, x, y, z)
+    }
+
+    /// Steps and selections look at their values ([`arith_core::Real::known`]), which
+    /// packs do not answer: a tape with them evaluates its forms one at a time.
+    fn packs(&self) -> bool {
+        !self.has_branches()
     }
 }

@@ -11,16 +11,22 @@
 //!
 //! Grammar (whitespace and `#` comments to end of line are ignored):
 //! ```text
-//! program  := (NAME '=' union ';')* union ';'? END
+//! program  := (NAME '=' or ';')* or ';'? END
+//! or       := and ('or' and)*
+//! and      := cmp ('and' cmp)*
+//! cmp      := union (('<' | '<=' | '>' | '>=' | '==' | '!=') union)*
 //! union    := inter ('|' inter)*
 //! inter    := sum (('&' | '\') sum)*
 //! sum      := product (('+' | '-') product)*
 //! product  := unary (('*' | '/') unary)*
 //! unary    := '-' unary | power
 //! power    := primary ('^' exponent)?
-//! exponent := '-'? INTEGER ('^' exponent)? | '(' exponent ')'
-//! primary  := NUMBER | NAME | NAME '(' union (',' union)* ')' | '(' union ')'
+//! exponent := '-'? INTEGER ('^' exponent)? | '-'? REAL | '(' exponent ')'
+//! primary  := NUMBER | 'pi' | NAME | NAME '(' or (',' or)* ')' | '(' or ')'
 //! ```
+//!
+//! A `REAL` exponent is a number literal with a fraction or an exponent mark; one whose
+//! value is an integer (`2.0`) is that integer.
 
 use super::ast::{BinOp, Binding, Expr, Func, Program, Var};
 use super::tape::folded_const;
@@ -110,6 +116,8 @@ enum Tok {
     Num(f64, bool),
     Name(String),
     Sym(char),
+    /// A comparison operator (`<`, `<=`, `>`, `>=`, `==`, `!=`).
+    Cmp(BinOp),
     End,
 }
 
@@ -126,6 +134,7 @@ fn describe(t: &Token) -> String {
         Tok::Num(..) => format!("number '{}'", t.text),
         Tok::Name(n) => format!("name '{n}'"),
         Tok::Sym(c) => format!("'{c}'"),
+        Tok::Cmp(op) => format!("'{}'", op.symbol()),
     }
 }
 
@@ -220,6 +229,13 @@ fn lex(chars: &[char]) -> Result<Vec<Token>, ParseError> {
                 pos: start,
                 text,
             });
+        } else if let Some((op, len)) = comparison(chars, i) {
+            out.push(Token {
+                tok: Tok::Cmp(op),
+                pos: i,
+                text: op.symbol().to_string(),
+            });
+            i += len;
         } else if "+-*/^&|\\(),;=".contains(c) {
             out.push(Token {
                 tok: Tok::Sym(c),
@@ -241,6 +257,30 @@ fn lex(chars: &[char]) -> Result<Vec<Token>, ParseError> {
         text: String::new(),
     });
     Ok(out)
+}
+
+/// The comparison operator starting at `chars[i]`, and its length.
+fn comparison(chars: &[char], i: usize) -> Option<(BinOp, usize)> {
+    let next = chars.get(i + 1).copied();
+    match (chars[i], next) {
+        ('<', Some('=')) => Some((BinOp::Le, 2)),
+        ('>', Some('=')) => Some((BinOp::Ge, 2)),
+        ('=', Some('=')) => Some((BinOp::Eq, 2)),
+        ('!', Some('=')) => Some((BinOp::Ne, 2)),
+        ('<', _) => Some((BinOp::Lt, 1)),
+        ('>', _) => Some((BinOp::Gt, 1)),
+        _ => None,
+    }
+}
+
+/// Words that are operators or constants, not names to bind.
+const RESERVED: [&str; 3] = ["and", "or", "pi"];
+
+/// An exponent after `^`: an integer (a power) or a real (`exp(c ln base)`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Exponent {
+    Int(i64),
+    Real(f64),
 }
 
 struct Parser<'a> {
@@ -373,12 +413,15 @@ impl Parser<'_> {
             if Func::from_name(&name).is_some() {
                 return self.err_at(pos, format!("cannot bind '{name}': it is a function name"));
             }
+            if RESERVED.contains(&name.as_str()) {
+                return self.err_at(pos, format!("cannot bind '{name}': it is a reserved word"));
+            }
             if self.index.contains_key(&name) {
                 return self.err_at(pos, format!("'{name}' is already bound"));
             }
             self.bump();
             self.bump();
-            let (expr, _) = self.union()?;
+            let (expr, _) = self.or()?;
             if !self.is_sym(';') {
                 return self.expected(&format!("';' after the binding of '{name}'"));
             }
@@ -388,7 +431,7 @@ impl Parser<'_> {
                 return self.expected("the final expression after the bindings");
             }
         }
-        let (body, _) = self.union()?;
+        let (body, _) = self.or()?;
         if self.is_sym(';') {
             self.bump();
             if self.peek().tok != Tok::End {
@@ -408,15 +451,49 @@ impl Parser<'_> {
         })
     }
 
-    fn union(&mut self) -> Result<Node, ParseError> {
+    fn is_word(&self, w: &str) -> bool {
+        matches!(&self.peek().tok, Tok::Name(n) if n == w)
+    }
+
+    fn or(&mut self) -> Result<Node, ParseError> {
         self.enter()?;
+        let (mut e, mut d) = self.and()?;
+        while self.is_word("or") {
+            let pos = self.bump().pos;
+            let (r, rd) = self.and()?;
+            (e, d) = self.node(Expr::bin(BinOp::Or, e, r), 1 + d.max(rd), pos)?;
+        }
+        self.nesting -= 1;
+        Ok((e, d))
+    }
+
+    fn and(&mut self) -> Result<Node, ParseError> {
+        let (mut e, mut d) = self.cmp()?;
+        while self.is_word("and") {
+            let pos = self.bump().pos;
+            let (r, rd) = self.cmp()?;
+            (e, d) = self.node(Expr::bin(BinOp::And, e, r), 1 + d.max(rd), pos)?;
+        }
+        Ok((e, d))
+    }
+
+    fn cmp(&mut self) -> Result<Node, ParseError> {
+        let (mut e, mut d) = self.union()?;
+        while let Tok::Cmp(op) = self.peek().tok {
+            let pos = self.bump().pos;
+            let (r, rd) = self.union()?;
+            (e, d) = self.node(Expr::bin(op, e, r), 1 + d.max(rd), pos)?;
+        }
+        Ok((e, d))
+    }
+
+    fn union(&mut self) -> Result<Node, ParseError> {
         let (mut e, mut d) = self.inter()?;
         while self.is_sym('|') {
             let pos = self.bump().pos;
             let r = self.inter()?;
             (e, d) = self.join(BinOp::Union, (e, d), r, pos)?;
         }
-        self.nesting -= 1;
         Ok((e, d))
     }
 
@@ -488,13 +565,17 @@ impl Parser<'_> {
             let (e, d) = self.shallow((e, d));
             let pos = self.bump().pos;
             let n = self.exponent(0)?;
-            return self.node(Expr::pow(e, n as i32), d + 1, pos);
+            let e = match n {
+                Exponent::Int(n) => Expr::pow(e, n as i32),
+                Exponent::Real(c) => Expr::PowF(Box::new(e), c),
+            };
+            return self.node(e, d + 1, pos);
         }
         Ok((e, d))
     }
 
-    /// An integer exponent, evaluated now; `2^3^2 = 2^9`.
-    fn exponent(&mut self, depth: usize) -> Result<i64, ParseError> {
+    /// An exponent, evaluated now; `2^3^2 = 2^9`.
+    fn exponent(&mut self, depth: usize) -> Result<Exponent, ParseError> {
         if depth > MAX_NESTING {
             let pos = self.peek().pos;
             return self.err_at(pos, "exponent nested too deeply");
@@ -514,7 +595,10 @@ impl Parser<'_> {
                 );
             }
             self.bump();
-            return self.check_exponent(n, open);
+            return match n {
+                Exponent::Int(n) => self.check_exponent(n, open),
+                real => Ok(real),
+            };
         }
         let start = self.peek().pos;
         let negative = self.is_sym('-');
@@ -532,22 +616,42 @@ impl Parser<'_> {
                     )
                 }
             },
-            Tok::Num(_, false) => {
-                return self.err_at(
-                    t.pos,
-                    format!(
-                        "the exponent after '^' must be an integer, found {}",
-                        describe(&t)
-                    ),
-                )
+            Tok::Num(v, false) => {
+                self.bump();
+                if self.is_sym('^') {
+                    let pos = self.peek().pos;
+                    return self.err_at(
+                        pos,
+                        "a real exponent cannot be raised to a power (use parentheses around the base)",
+                    );
+                }
+                let v = if negative { -v } else { v };
+                if v.fract() == 0.0 && v.abs() <= MAX_EXPONENT as f64 {
+                    return Ok(Exponent::Int(v as i64));
+                }
+                if v.fract() == 0.0 {
+                    return self.err_at(
+                        t.pos,
+                        format!("exponent {} is too large (at most {MAX_EXPONENT})", t.text),
+                    );
+                }
+                return Ok(Exponent::Real(v));
             }
-            _ => return self.expected("an integer exponent after '^'"),
+            _ => return self.expected("an exponent after '^'"),
         };
         self.bump();
         let mut n = base;
         if self.is_sym('^') {
             let pos = self.bump().pos;
-            let e = self.exponent(depth + 1)?;
+            let e = match self.exponent(depth + 1)? {
+                Exponent::Int(e) => e,
+                Exponent::Real(_) => {
+                    return self.err_at(
+                        pos,
+                        "an integer cannot be raised to a real exponent inside an exponent",
+                    )
+                }
+            };
             n = int_pow(base, e).ok_or_else(|| {
                 ParseError::new(
                     self.chars,
@@ -561,14 +665,14 @@ impl Parser<'_> {
         self.check_exponent(if negative { -n } else { n }, start)
     }
 
-    fn check_exponent(&self, n: i64, pos: usize) -> Result<i64, ParseError> {
+    fn check_exponent(&self, n: i64, pos: usize) -> Result<Exponent, ParseError> {
         if n.abs() > MAX_EXPONENT {
             return self.err_at(
                 pos,
                 format!("exponent {n} is too large (at most {MAX_EXPONENT})"),
             );
         }
-        Ok(n)
+        Ok(Exponent::Int(n))
     }
 
     fn primary(&mut self) -> Result<Node, ParseError> {
@@ -580,7 +684,7 @@ impl Parser<'_> {
             }
             Tok::Sym('(') => {
                 self.bump();
-                let (e, d) = self.union()?;
+                let (e, d) = self.or()?;
                 if !self.is_sym(')') {
                     let col = ParseError::new(self.chars, t.pos, "").column;
                     return self
@@ -604,13 +708,19 @@ impl Parser<'_> {
                     {
                         format!("'{name}' is not a function")
                     } else {
-                        format!(
-                            "unknown function '{name}' (known: sqrt sqr exp ln sin cos abs min max)"
-                        )
+                        let known: Vec<&str> = Func::ALL.iter().map(|f| f.name()).collect();
+                        format!("unknown function '{name}' (known: {})", known.join(" "))
                     };
                     return self.err_at(t.pos, what);
                 }
                 let e = match name.as_str() {
+                    "pi" => Expr::Num(std::f64::consts::PI),
+                    "and" | "or" => {
+                        return self.err_at(
+                            t.pos,
+                            format!("expected an operand before '{name}'"),
+                        )
+                    }
                     "x" => Expr::Var(Var::X),
                     "y" => Expr::Var(Var::Y),
                     "z" => Expr::Var(Var::Z),
@@ -638,7 +748,7 @@ impl Parser<'_> {
         let mut depth = 0;
         if !self.is_sym(')') {
             loop {
-                let a = self.union()?;
+                let a = self.or()?;
                 let (a, d) = self.shallow(a);
                 args.push(a);
                 depth = depth.max(d);

@@ -8,13 +8,19 @@
 //! (and every let-bound value) are computed once (hash-consing); unused bindings are
 //! dropped. Each operand carries a "last use" flag so the interpreter moves values out
 //! of registers instead of cloning them (which matters for heap-backed affine forms).
+//!
+//! Comparisons compile to steps `d > 0` / `d >= 0` of a difference (exact in sign in
+//! `f64`), conditions to truth values 0 or 1, and `if` to [`Op::Select`]; see
+//! [`super::branch`] for why they are sound over ranges. A condition that folds to a
+//! constant picks its branch at compile time, so only the branch taken is compiled.
 
 use super::ast::{BinOp, Expr, Func, Program, Var};
+use super::branch::{select, step, Step};
 use arith_core::round::two_sum;
 use arith_core::{rfunc, Real};
 use std::any::Any;
 use std::cell::RefCell;
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::fmt;
 
 /// What an instruction computes. `a`, `b` are operand registers, `c` an `f64` constant,
@@ -77,6 +83,16 @@ pub enum Op {
     Union,
     /// R-function `a \ b`
     Subtract,
+    /// The paper's blending union `blend_union(a, b)`
+    BlendUnion,
+    /// The paper's blending intersection `blend_intersect(a, b)`
+    BlendIntersect,
+    /// `a > 0`: 1 or 0 (the range `[0, 1]` where undecided)
+    Gt0,
+    /// `a >= 0`: 1 or 0 (the range `[0, 1]` where undecided)
+    Ge0,
+    /// `b` where the truth value `a` is 1, `e` where it is 0 (the hull where undecided)
+    Select,
 }
 
 impl Op {
@@ -85,9 +101,11 @@ impl Op {
         use Op::*;
         match self {
             X | Y | Z | Const => 0,
-            Neg | Sqr | Powi | Sqrt | Exp | Ln | Sin | Cos | Abs => 1,
+            Neg | Sqr | Powi | Sqrt | Exp | Ln | Sin | Cos | Abs | Gt0 | Ge0 => 1,
             AddC | SubC | RSubC | MulC | DivC | RDivC => 1,
             Add | Sub | Mul | Div | Min | Max | Intersect | Union | Subtract => 2,
+            BlendUnion | BlendIntersect => 2,
+            Select => 3,
         }
     }
 
@@ -123,6 +141,11 @@ impl Op {
             Intersect => "intersect",
             Union => "union",
             Subtract => "subtract",
+            BlendUnion => "blend_union",
+            BlendIntersect => "blend_intersect",
+            Gt0 => "gt0",
+            Ge0 => "ge0",
+            Select => "select",
         }
     }
 
@@ -130,7 +153,10 @@ impl Op {
     /// builder may order them to share `a op b` and `b op a`. Not `min`/`max`: for
     /// `-0` and `+0` the `f64` result is whichever operand comes second.
     fn commutative(self) -> bool {
-        matches!(self, Op::Add | Op::Mul | Op::Intersect | Op::Union)
+        matches!(
+            self,
+            Op::Add | Op::Mul | Op::Intersect | Op::Union | Op::BlendUnion | Op::BlendIntersect
+        )
     }
 }
 
@@ -145,9 +171,12 @@ pub struct Instr {
     pub a: u32,
     /// Second operand register (unused ones are 0).
     pub b: u32,
+    /// Third operand register: the else value of [`Op::Select`] (0 otherwise).
+    pub e: u32,
     /// Constant of [`Op::Const`] and the `...C` ops, 0 otherwise.
     pub c: f64,
-    /// Bit 0: this is the last read of `a`; bit 1: of `b` (the value is moved, not cloned).
+    /// Bit 0: this is the last read of `a`; bit 1: of `b`; bit 2: of `e` (the value is
+    /// moved, not cloned).
     pub last: u8,
 }
 
@@ -158,6 +187,7 @@ impl Instr {
             n,
             a,
             b,
+            e: 0,
             c,
             last: 0,
         }
@@ -168,20 +198,29 @@ impl Instr {
         match self.op.arity() {
             0 => &[],
             1 => &[0],
-            _ => &[0, 1],
+            2 => &[0, 1],
+            _ => &[0, 1, 2],
         }
     }
 
     fn reg(&self, k: usize) -> u32 {
-        if k == 0 {
-            self.a
-        } else {
-            self.b
+        match k {
+            0 => self.a,
+            1 => self.b,
+            _ => self.e,
         }
     }
 
-    fn key(&self) -> (Op, i32, u32, u32, u64) {
-        (self.op, self.n, self.a, self.b, self.c.to_bits())
+    fn reg_mut(&mut self, k: usize) -> &mut u32 {
+        match k {
+            0 => &mut self.a,
+            1 => &mut self.b,
+            _ => &mut self.e,
+        }
+    }
+
+    fn key(&self) -> Key {
+        (self.op, self.n, [self.a, self.b, self.e], self.c.to_bits())
     }
 }
 
@@ -228,9 +267,17 @@ enum Val {
     R(u32),
 }
 
+/// What identifies an instruction for sharing: op, exponent, operands, constant bits.
+type Key = (Op, i32, [u32; 3], u64);
+
+/// HyperFun's tolerance for truth values and equality: `|v| >= EPS` holds.
+pub const EPS: f64 = 1e-6;
+
 struct Builder {
     ins: Vec<Instr>,
-    memo: HashMap<(Op, i32, u32, u32, u64), u32>,
+    memo: HashMap<Key, u32>,
+    /// Registers whose value is a truth value, exactly 0 or 1 at every point.
+    bools: HashSet<u32>,
 }
 
 impl Builder {
@@ -242,10 +289,158 @@ impl Builder {
             // `a * a` as `sqr(a)`: the same `f64` value, never a wider range.
             i = Instr::new(Op::Sqr, i.a, 0, 0, 0.0);
         }
-        *self.memo.entry(i.key()).or_insert_with(|| {
+        let is_bool = |r: u32| self.bools.contains(&r);
+        let boolean = match i.op {
+            Op::Gt0 | Op::Ge0 => true,
+            Op::Const => i.c == 0.0 || i.c == 1.0,
+            Op::Min | Op::Max => is_bool(i.a) && is_bool(i.b),
+            Op::RSubC => i.c == 1.0 && is_bool(i.a),
+            Op::Select => is_bool(i.b) && is_bool(i.e),
+            _ => false,
+        };
+        let r = *self.memo.entry(i.key()).or_insert_with(|| {
             self.ins.push(i);
             (self.ins.len() - 1) as u32
-        })
+        });
+        if boolean {
+            self.bools.insert(r);
+        }
+        r
+    }
+
+    /// The truth value of `v`: `v` itself where it is one, else `|v| >= EPS`.
+    fn truth(&mut self, v: Val) -> Val {
+        match v {
+            Val::C(c) => Val::C(if c.abs() >= EPS { 1.0 } else { 0.0 }),
+            Val::R(r) if self.bools.contains(&r) => v,
+            Val::R(_) => {
+                let a = self.unary(Op::Abs, v);
+                let d = self.binary(BinOp::Sub, a, Val::C(EPS));
+                self.step(Step::NonNeg, d)
+            }
+        }
+    }
+
+    fn step(&mut self, s: Step, v: Val) -> Val {
+        match v {
+            Val::C(c) => Val::C(s.at(c)),
+            Val::R(r) => {
+                let op = if s == Step::Pos { Op::Gt0 } else { Op::Ge0 };
+                Val::R(self.emit(Instr::new(op, r, 0, 0, 0.0)))
+            }
+        }
+    }
+
+    /// A comparison as the step of a difference (exact in sign in `f64`).
+    fn compare(&mut self, op: BinOp, l: Val, r: Val) -> Val {
+        if let (Val::C(a), Val::C(b)) = (l, r) {
+            return Val::C(fold_cmp(op, a, b));
+        }
+        let zero = matches!(r, Val::C(c) if c == 0.0);
+        match op {
+            BinOp::Gt | BinOp::Ge if zero => {
+                let s = if op == BinOp::Gt {
+                    Step::Pos
+                } else {
+                    Step::NonNeg
+                };
+                self.step(s, l)
+            }
+            BinOp::Lt | BinOp::Le => {
+                let d = self.binary(BinOp::Sub, r, l);
+                let s = if op == BinOp::Lt {
+                    Step::Pos
+                } else {
+                    Step::NonNeg
+                };
+                self.step(s, d)
+            }
+            BinOp::Gt | BinOp::Ge => {
+                let d = self.binary(BinOp::Sub, l, r);
+                let s = if op == BinOp::Gt {
+                    Step::Pos
+                } else {
+                    Step::NonNeg
+                };
+                self.step(s, d)
+            }
+            _ => {
+                let d = self.binary(BinOp::Sub, l, r);
+                let t = self.unary(Op::Abs, d);
+                if op == BinOp::Eq {
+                    let d = self.binary(BinOp::Sub, Val::C(EPS), t);
+                    self.step(Step::Pos, d)
+                } else {
+                    let d = self.binary(BinOp::Sub, t, Val::C(EPS));
+                    self.step(Step::NonNeg, d)
+                }
+            }
+        }
+    }
+
+    /// `and` as the minimum, `or` as the maximum of two truth values.
+    fn logic(&mut self, op: BinOp, l: Val, r: Val) -> Val {
+        let (a, b) = (self.truth(l), self.truth(r));
+        let and = op == BinOp::And;
+        match (a, b) {
+            (Val::C(p), Val::C(q)) => Val::C(if and { p.min(q) } else { p.max(q) }),
+            (Val::C(p), v) | (v, Val::C(p)) => match (and, p == 1.0) {
+                (true, true) | (false, false) => v,
+                (true, false) => Val::C(0.0),
+                (false, true) => Val::C(1.0),
+            },
+            (Val::R(a), Val::R(b)) => {
+                let op = if and { Op::Min } else { Op::Max };
+                Val::R(self.emit(Instr::new(op, a, b, 0, 0.0)))
+            }
+        }
+    }
+
+    /// `if(c, t, e)`: the branch itself where `c` folds, else a selection.
+    fn select(&mut self, c: Val, t: Val, e: Val) -> Val {
+        match self.truth(c) {
+            Val::C(p) => {
+                if p == 1.0 {
+                    t
+                } else {
+                    e
+                }
+            }
+            Val::R(c) => {
+                if let (Val::C(a), Val::C(b)) = (t, e) {
+                    if a.to_bits() == b.to_bits() {
+                        return t;
+                    }
+                }
+                let (t, e) = (self.reg(t), self.reg(e));
+                if t == e {
+                    return Val::R(t);
+                }
+                let mut i = Instr::new(Op::Select, c, t, 0, 0.0);
+                i.e = e;
+                Val::R(self.emit(i))
+            }
+        }
+    }
+
+    /// HyperFun's `hfBlendUni` / `hfBlendInt`: `f1 | f2` (or `&`) plus
+    /// `a0 / (1 + (f1/a1)^2 + (f2/a2)^2)`, in the library's order of operations.
+    fn hf_blend(&mut self, union: bool, v: &[Val]) -> Val {
+        let (f1, f2, a0, a1, a2) = (v[0], v[1], v[2], v[3], v[4]);
+        let op = if union {
+            BinOp::Union
+        } else {
+            BinOp::Intersect
+        };
+        let set = self.binary(op, f1, f2);
+        let q1 = self.binary(BinOp::Div, f1, a1);
+        let q1 = self.powi(q1, 2);
+        let q2 = self.binary(BinOp::Div, f2, a2);
+        let q2 = self.powi(q2, 2);
+        let s = self.binary(BinOp::Add, Val::C(1.0), q1);
+        let s = self.binary(BinOp::Add, s, q2);
+        let d = self.binary(BinOp::Div, a0, s);
+        self.binary(BinOp::Add, set, d)
     }
 
     fn reg(&mut self, v: Val) -> u32 {
@@ -258,6 +453,16 @@ impl Builder {
     fn unary(&mut self, op: Op, v: Val) -> Val {
         let a = self.reg(v);
         Val::R(self.emit(Instr::new(op, a, 0, 0, 0.0)))
+    }
+
+    /// `op(v)`, folded where `v` is a constant and the result is exact.
+    fn unary_folded(&mut self, op: Op, v: Val) -> Val {
+        if let Val::C(c) = v {
+            if let Some(r) = fold_unary(op, c) {
+                return Val::C(r);
+            }
+        }
+        self.unary(op, v)
     }
 
     fn powi(&mut self, v: Val, n: i32) -> Val {
@@ -275,6 +480,13 @@ impl Builder {
     }
 
     fn binary(&mut self, op: BinOp, l: Val, r: Val) -> Val {
+        match op {
+            BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge | BinOp::Eq | BinOp::Ne => {
+                return self.compare(op, l, r)
+            }
+            BinOp::And | BinOp::Or => return self.logic(op, l, r),
+            _ => {}
+        }
         if let (Val::C(a), Val::C(b)) = (l, r) {
             if let Some(v) = fold_bin(op, a, b) {
                 return Val::C(v);
@@ -313,7 +525,8 @@ impl Builder {
                     BinOp::Div => Op::Div,
                     BinOp::Intersect => Op::Intersect,
                     BinOp::Union => Op::Union,
-                    BinOp::Subtract => Op::Subtract,
+                    // Comparisons and logic returned above.
+                    _ => Op::Subtract,
                 };
                 Instr::new(op, a, b, 0, 0.0)
             }
@@ -342,6 +555,46 @@ impl Builder {
             Expr::Pow(a, n) => {
                 let v = self.expr(a, binds)?;
                 self.powi(v, *n)
+            }
+            Expr::PowF(a, c) => {
+                let v = self.expr(a, binds)?;
+                let l = self.unary_folded(Op::Ln, v);
+                let m = self.binary(BinOp::Mul, l, Val::C(*c));
+                self.unary_folded(Op::Exp, m)
+            }
+            Expr::Call(f, args)
+                if f.arity() > 2
+                    || matches!(f, Func::Not | Func::BlendUnion | Func::BlendIntersect) =>
+            {
+                if args.len() != f.arity() {
+                    return Err(CompileError(format!(
+                        "{} takes {} argument(s), not {}",
+                        f.name(),
+                        f.arity(),
+                        args.len()
+                    )));
+                }
+                let mut v = Vec::with_capacity(args.len());
+                for a in args {
+                    v.push(self.expr(a, binds)?);
+                }
+                match f {
+                    Func::If => self.select(v[0], v[1], v[2]),
+                    Func::Not => {
+                        let t = self.truth(v[0]);
+                        self.binary(BinOp::Sub, Val::C(1.0), t)
+                    }
+                    Func::BlendUnion | Func::BlendIntersect => {
+                        let (a, b) = (self.reg(v[0]), self.reg(v[1]));
+                        let op = if *f == Func::BlendUnion {
+                            Op::BlendUnion
+                        } else {
+                            Op::BlendIntersect
+                        };
+                        Val::R(self.emit(Instr::new(op, a, b, 0, 0.0)))
+                    }
+                    _ => self.hf_blend(*f == Func::HfBlendUnion, &v),
+                }
             }
             Expr::Call(f, args) => {
                 if args.len() != f.arity() {
@@ -398,13 +651,26 @@ impl Builder {
 
 /// The value of `e` if compilation folds it to a constant (the same rules as
 /// [`Tape::compile`]), `binds` holding the constant value, if any, of each binding.
-pub(super) fn folded_const(e: &Expr, binds: &[Option<f64>]) -> Option<f64> {
+pub(crate) fn folded_const(e: &Expr, binds: &[Option<f64>]) -> Option<f64> {
     match e {
         Expr::Num(c) => Some(*c),
         Expr::Var(_) => None,
         Expr::Ref(i) => binds.get(*i).copied().flatten(),
         Expr::Neg(a) => folded_const(a, binds).map(|c| -c),
         Expr::Pow(a, n) => exact_powi(folded_const(a, binds)?, *n),
+        Expr::PowF(..) => None,
+        Expr::Call(Func::If, args) => {
+            let c = folded_const(args.first()?, binds)?;
+            let k = if c.abs() >= EPS { 1 } else { 2 };
+            folded_const(args.get(k)?, binds)
+        }
+        Expr::Call(Func::Not, args) => {
+            let c = folded_const(args.first()?, binds)?;
+            Some(if c.abs() >= EPS { 0.0 } else { 1.0 })
+        }
+        Expr::Call(..) if matches!(e, Expr::Call(f, _) if f.arity() > 2 || matches!(f, Func::BlendUnion | Func::BlendIntersect)) => {
+            None
+        }
         Expr::Call(f, args) => {
             let v = folded_const(args.first()?, binds)?;
             match f {
@@ -417,7 +683,19 @@ pub(super) fn folded_const(e: &Expr, binds: &[Option<f64>]) -> Option<f64> {
                 Func::Sin => fold_unary(Op::Sin, v),
                 Func::Cos => fold_unary(Op::Cos, v),
                 Func::Abs => fold_unary(Op::Abs, v),
+                // Handled above.
+                _ => None,
             }
+        }
+        Expr::Bin(op @ (BinOp::And | BinOp::Or), a, b) => {
+            // One operand that decides is enough, as in the compiler.
+            let (fa, fb) = (folded_const(a, binds), folded_const(b, binds));
+            let holds = |v: Option<f64>| v.map(|c| c.abs() >= EPS);
+            let decide = *op == BinOp::Or;
+            if holds(fa) == Some(decide) || holds(fb) == Some(decide) {
+                return Some(if decide { 1.0 } else { 0.0 });
+            }
+            fold_bin(*op, fa?, fb?)
         }
         Expr::Bin(op, a, b) => fold_bin(*op, folded_const(a, binds)?, folded_const(b, binds)?),
     }
@@ -506,6 +784,26 @@ fn fold_bin(op: BinOp, a: f64, b: f64) -> Option<f64> {
         BinOp::Intersect => exact_add(exact_add(a, b)?, -norm()?),
         BinOp::Union => exact_add(exact_add(a, b)?, norm()?),
         BinOp::Subtract => exact_add(exact_add(a, -b)?, -norm()?),
+        BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge | BinOp::Eq | BinOp::Ne => {
+            Some(fold_cmp(op, a, b))
+        }
+        BinOp::And | BinOp::Or => {
+            let (p, q) = (a.abs() >= EPS, b.abs() >= EPS);
+            let v = if op == BinOp::And { p && q } else { p || q };
+            Some(if v { 1.0 } else { 0.0 })
+        }
+    }
+}
+
+/// A comparison of two constants, computed as the tape computes it at points.
+fn fold_cmp(op: BinOp, a: f64, b: f64) -> f64 {
+    match op {
+        BinOp::Lt => Step::Pos.at(b - a),
+        BinOp::Le => Step::NonNeg.at(b - a),
+        BinOp::Gt => Step::Pos.at(a - b),
+        BinOp::Ge => Step::NonNeg.at(a - b),
+        BinOp::Eq => Step::Pos.at(EPS - (a - b).abs()),
+        _ => Step::NonNeg.at((a - b).abs() - EPS),
     }
 }
 
@@ -545,7 +843,7 @@ fn with_registers<R: 'static, T>(f: impl FnOnce(&mut Vec<Option<R>>) -> T) -> T 
 /// Reads operand `k` of `i`: moved out on its last read, cloned otherwise.
 #[inline(always)]
 fn read<R: Clone>(regs: &mut [Option<R>], i: &Instr, k: u8) -> R {
-    let r = if k == 0 { i.a } else { i.b } as usize;
+    let r = i.reg(k as usize) as usize;
     let slot = &mut regs[r];
     let v = if i.last & (1 << k) != 0 {
         slot.take()
@@ -562,6 +860,7 @@ impl Tape {
         let mut b = Builder {
             ins: Vec::new(),
             memo: HashMap::new(),
+            bools: HashSet::new(),
         };
         let mut binds = Vec::with_capacity(p.bindings.len());
         for bind in &p.bindings {
@@ -573,6 +872,13 @@ impl Tape {
         Ok(Tape {
             ins: finish(b.ins, out),
         })
+    }
+
+    /// Whether the tape compares or selects ([`Op::Gt0`], [`Op::Ge0`], [`Op::Select`]).
+    pub fn has_branches(&self) -> bool {
+        self.ins
+            .iter()
+            .any(|i| matches!(i.op, Op::Gt0 | Op::Ge0 | Op::Select))
     }
 
     /// Number of instructions.
@@ -617,6 +923,7 @@ impl Tape {
             // Unused operand fields are 0: reading register 0 then is harmless.
             let a = regs[i.a as usize];
             let b = regs[i.b as usize];
+            let e = regs[i.e as usize];
             regs[k] = match i.op {
                 Op::X => x,
                 Op::Y => y,
@@ -646,6 +953,11 @@ impl Tape {
                 Op::Intersect => rfunc::intersect(a, b),
                 Op::Union => rfunc::union(a, b),
                 Op::Subtract => rfunc::subtract(a, b),
+                Op::BlendUnion => rfunc::blend_union(a, b),
+                Op::BlendIntersect => rfunc::blend_intersect(a, b),
+                Op::Gt0 => Step::Pos.at(a),
+                Op::Ge0 => Step::NonNeg.at(a),
+                Op::Select => select(&a, b, e),
             };
         }
         regs[self.ins.len() - 1]
@@ -684,6 +996,14 @@ impl Tape {
                 Op::Intersect => rfunc::intersect(read(regs, i, 0), read(regs, i, 1)),
                 Op::Union => rfunc::union(read(regs, i, 0), read(regs, i, 1)),
                 Op::Subtract => rfunc::subtract(read(regs, i, 0), read(regs, i, 1)),
+                Op::BlendUnion => rfunc::blend_union(read(regs, i, 0), read(regs, i, 1)),
+                Op::BlendIntersect => rfunc::blend_intersect(read(regs, i, 0), read(regs, i, 1)),
+                Op::Gt0 => step(Step::Pos, &read(regs, i, 0)),
+                Op::Ge0 => step(Step::NonNeg, &read(regs, i, 0)),
+                Op::Select => {
+                    let c = read(regs, i, 0);
+                    select(&c, read(regs, i, 1), read(regs, i, 2))
+                }
             };
             regs.push(Some(v));
         }
@@ -726,8 +1046,13 @@ impl Tape {
             } else {
                 Expr::Num(0.0)
             };
-            let b = if i.op.arity() == 2 {
+            let b = if i.op.arity() >= 2 {
                 get(&mut exprs, i.b)
+            } else {
+                Expr::Num(0.0)
+            };
+            let e3 = if i.op.arity() == 3 {
+                get(&mut exprs, i.e)
             } else {
                 Expr::Num(0.0)
             };
@@ -761,6 +1086,11 @@ impl Tape {
                 Op::Intersect => Expr::bin(BinOp::Intersect, a, b),
                 Op::Union => Expr::bin(BinOp::Union, a, b),
                 Op::Subtract => Expr::bin(BinOp::Subtract, a, b),
+                Op::BlendUnion => call(Func::BlendUnion, vec![a, b]),
+                Op::BlendIntersect => call(Func::BlendIntersect, vec![a, b]),
+                Op::Gt0 => Expr::bin(BinOp::Gt, a, Expr::Num(0.0)),
+                Op::Ge0 => Expr::bin(BinOp::Ge, a, Expr::Num(0.0)),
+                Op::Select => call(Func::If, vec![a, b, e3]),
             };
             let shared = uses[r] > 1 || d > INLINE_DEPTH;
             let e = if shared && r != last && !matches!(e, Expr::Var(_) | Expr::Num(_)) {
@@ -810,16 +1140,11 @@ fn finish(ins: Vec<Instr>, out: u32) -> Vec<Instr> {
         if !live[r] {
             continue;
         }
-        i.a = if i.op.arity() >= 1 {
-            new_index[i.a as usize]
-        } else {
-            0
-        };
-        i.b = if i.op.arity() == 2 {
-            new_index[i.b as usize]
-        } else {
-            0
-        };
+        let arity = i.op.arity();
+        for k in 0..3 {
+            let r = i.reg_mut(k);
+            *r = if k < arity { new_index[*r as usize] } else { 0 };
+        }
         new_index[r] = kept.len() as u32;
         kept.push(i);
     }
@@ -862,10 +1187,11 @@ mod tests {
     fn point_path_matches_generic_path() {
         let src = "a = x^2 - y; b = sqrt(abs(a)) + exp(-y) / 3 - ln(z) * sin(x) + cos(y);
                    c = min(a, b) * max(x, z) - 1 / x + 2 / (y - 5) - (z - 0.1) + x^-3 * y^5 + x / y + (3 - z) * (z + 2) * sin(1) + 4 * z;
-                   (a & b) | (c \\ x) & -z";
+                   d = blend_union(a, y) - blend_intersect(b, z) + if(x < y, c, z) + (y >= 0);
+                   (a & b) | (c \\ x) & -z + d";
         let t = crate::models::formula::parse(src).unwrap();
         let ops: std::collections::HashSet<Op> = t.instructions().iter().map(|i| i.op).collect();
-        assert_eq!(ops.len(), 28, "every op is exercised:\n{t}");
+        assert_eq!(ops.len(), 33, "every op is exercised:\n{t}");
         for &(x, y, z) in &[
             (0.3, -0.7, 1.1),
             (-1.9, 0.25, 0.4),
