@@ -25,13 +25,12 @@ pub const FIRST_FRAME_GOAL_S: f64 = 0.1;
 /// The two ray casters the previewer must beat on point evaluations.
 pub const RAY_CASTERS: [&str; 2] = ["overshoot-rc", "standard-rc"];
 /// Every method `bench_table` reports, in display order.
-pub const METHODS: [&str; 5] = [
-    "previewer",
-    "previewer-local",
-    "overshoot-rc",
-    "standard-rc",
-    "local-rc",
-];
+pub fn methods() -> Vec<String> {
+    tracer::progressive::bench_methods()
+        .into_iter()
+        .map(|(n, _)| n)
+        .collect()
+}
 /// The methods the paper's Fig. 9 plots, in its legend's order.
 pub const FIG9_METHODS: [&str; 3] = ["previewer", "overshoot-rc", "standard-rc"];
 
@@ -368,7 +367,8 @@ pub fn markdown(r: &Report) -> String {
             .iter()
             .find(|p| p.model == m)
             .map_or(m.to_string(), |p| format!("{m} ({})", p.label));
-        for method in METHODS {
+        for method in methods() {
+            let method = method.as_str();
             let Some(row) = find(&r.table, m, method) else {
                 continue;
             };
@@ -405,7 +405,8 @@ pub fn markdown(r: &Report) -> String {
         s.push_str("| L | method | seconds | point evals | range evals | / overshoot-rc | / standard-rc |\n");
         s.push_str("|--:|---|--:|--:|--:|--:|--:|\n");
         for (l, rows) in &r.fig9 {
-            for method in METHODS {
+            for method in methods() {
+                let method = method.as_str();
                 let Some(row) = rows.iter().find(|x| x.method == method) else {
                     continue;
                 };
@@ -450,7 +451,7 @@ fn csv_rows(s: &mut String, rows: &[BenchRow], size: u32, prefix: Option<u32>) {
                 .find(|x| x.model == row.model && x.method == rc)
                 .map_or(String::new(), |x| ratio(row.evals, x.evals))
         };
-        let paper = paper_cell(&row.model, row.method, size);
+        let paper = paper_cell(&row.model, &row.method, size);
         if let Some(l) = prefix {
             let _ = write!(s, "{l},");
         }
@@ -529,10 +530,10 @@ fn fig9_charts(r: &Report, dir: &Path) -> Result<(), String> {
 mod tests {
     use super::*;
 
-    fn row(model: &str, method: &'static str, evals: u64) -> BenchRow {
+    fn row(model: &str, method: &str, evals: u64) -> BenchRow {
         BenchRow {
             model: model.into(),
-            method,
+            method: method.into(),
             seconds: 1.0,
             evals,
             range_evals: 0,

@@ -9,7 +9,7 @@
 //! few seconds, so even a force-quit (a second Ctrl-C) loses at most the last few
 //! seconds of refinement.
 
-use super::preview::PreviewArgs;
+use super::preview::{save_image, PreviewArgs};
 use crate::progressive::{write_png, Engine, Rect, SharedImage, Stats, Step};
 use crate::shape::Shape;
 use minifb::{Key, MouseButton, MouseMode, Window, WindowOptions};
@@ -65,11 +65,24 @@ fn refine<S: Shape>(
     (engine.stats(), false)
 }
 
+/// Writes `out` by way of a temporary file beside it, so a reader never sees half a PNG.
 fn write_atomically(img: &SharedImage, out: &Path) -> Result<(), String> {
     let ext = out.extension().and_then(|e| e.to_str()).unwrap_or("png");
     let tmp = out.with_extension(format!("partial.{ext}"));
     write_png(img, &tmp)?;
     std::fs::rename(&tmp, out).map_err(|e| format!("cannot write {}: {e}", out.display()))
+}
+
+/// A checkpoint of `--out` while the window is open: a failure is reported once on
+/// stderr and refinement goes on (the final write keeps the image somewhere, see
+/// [`save_image`]).
+fn checkpoint(img: &SharedImage, out: &Path, failed: &mut bool) {
+    if let Err(e) = write_atomically(img, out) {
+        if !*failed {
+            eprintln!("warning: --out checkpoint: {e}");
+        }
+        *failed = true;
+    }
 }
 
 /// Draws a one-pixel white outline of `r` into `buf`.
@@ -120,6 +133,7 @@ pub fn run_window<S: Shape + 'static>(engine: Engine<S>, args: &PreviewArgs) -> 
     let mut completed_written = false;
     let mut last_checkpoint = Instant::now();
     let mut frames = 0u64;
+    let mut checkpoint_failed = false;
     let mouse_px = |win: &Window| {
         win.get_mouse_pos(MouseMode::Clamp)
             .map(|(x, y)| ((x as u32).min(w - 1), (y as u32).min(h - 1)))
@@ -179,12 +193,12 @@ pub fn run_window<S: Shape + 'static>(engine: Engine<S>, args: &PreviewArgs) -> 
                 start.elapsed().as_secs_f64()
             ));
             if let Some(out) = &args.out {
-                write_atomically(&image, out)?;
+                checkpoint(&image, out, &mut checkpoint_failed);
             }
         } else if !completed_written && last_checkpoint.elapsed().as_secs_f64() >= CHECKPOINT_S {
             last_checkpoint = Instant::now();
             if let Some(out) = &args.out {
-                write_atomically(&image, out)?;
+                checkpoint(&image, out, &mut checkpoint_failed);
             }
         }
     };
@@ -192,9 +206,12 @@ pub fn run_window<S: Shape + 'static>(engine: Engine<S>, args: &PreviewArgs) -> 
     let (stats, complete) = worker
         .join()
         .map_err(|_| "the refinement thread panicked".to_string())?;
-    // Stopped early or complete: the latest image is written either way.
+    // Stopped early or complete: the latest image is written either way, and kept in
+    // the temporary folder when `--out` cannot be written.
     if let Some(out) = &args.out {
-        write_atomically(&image, out)?;
+        if write_atomically(&image, out).is_err() {
+            save_image(&image, out, "--out")?;
+        }
     }
     crate::say!(
         "{}: {} iterations, {} evaluations, {:.3} s, {} frames",

@@ -22,8 +22,8 @@ mod image;
 mod plan;
 mod raycast;
 
-pub use bench::{bench_table, BenchRow};
-pub use engine::{ChildStart, Engine, Options, Rect, Stats, Step};
+pub use bench::{bench_methods, bench_rounds, bench_table, previewer_method, BenchRow, Method};
+pub use engine::{Bound, ChildStart, Engine, Options, Rect, Stats, Step};
 pub use image::{write_png, SharedImage};
 pub use plan::{prime_factors_desc, Plan};
 pub use raycast::{raycast, Caster};
