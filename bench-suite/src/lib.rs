@@ -6,6 +6,8 @@
 //! - [`table1`]: the paper's Table 1 regenerated.
 //! - [`tightness`]: computed range width over sampled true width.
 //! - [`progressive`]: the progressive-refinement paper's Table 1 and Fig. 9.
+//! - [`gm_study`]: why our Mitchell counts differ from the paper's, one factor at a time.
+//! - [`fig10`]: that paper's Fig. 10, a landscape refined with a region of interest.
 //! - [`scaling`]: cost as the resolution doubles, with and without culling.
 //! - [`rng`]: a small reproducible generator for sampling.
 
@@ -13,6 +15,8 @@
 #![warn(missing_docs)]
 pub mod chart;
 pub mod counter;
+pub mod fig10;
+pub mod gm_study;
 pub mod paper;
 pub mod progressive;
 pub mod scaling;

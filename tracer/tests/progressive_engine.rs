@@ -462,6 +462,8 @@ fn headless_preview_writes_a_snapshot_per_level() {
         headless: true,
         snapshots: Some(dir.clone()),
         out: Some(dir.join("out.png")),
+        roi: None,
+        roi_level: 0,
         fps: 30,
         stop_after: None,
     };

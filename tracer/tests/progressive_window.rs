@@ -68,6 +68,8 @@ fn window_refines_for_a_second_then_stops_and_writes_the_image() {
         headless: false,
         snapshots: None,
         out: Some(out.clone()),
+        roi: None,
+        roi_level: 0,
         fps: 30,
         stop_after: Some(1.0),
     };

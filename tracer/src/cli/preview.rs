@@ -7,7 +7,7 @@ use crate::arith::ArithKind;
 use crate::lipschitz_bound::auto_lipschitz;
 use crate::models::Model;
 use crate::progressive::SharedImage;
-use crate::progressive::{write_png, Bound, ChildStart, Engine, Options};
+use crate::progressive::{write_png, Bound, ChildStart, Engine, Options, Rect, Step};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -69,7 +69,7 @@ pub struct PreviewArgs {
     /// range of the gradient over it), or `range` (each cone segment tested with the
     /// --arith range arithmetic over its frustum, terminal rays by Algorithm 1: no
     /// Lipschitz bound needed).
-    #[arg(long, default_value = "local", allow_hyphen_values = true)]
+    #[arg(long, default_value = crate::progressive::DEFAULT_BOUND.name(), allow_hyphen_values = true)]
     pub bound: String,
     /// Arithmetic of `--bound range`.
     #[arg(long, default_value = "revaa", help = arith_help())]
@@ -83,6 +83,15 @@ pub struct PreviewArgs {
     /// Write the image here at completion, or when stopped early.
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// A region of interest X0,Y0,X1,Y1 (pixel corners, inclusive), refined first from
+    /// the start of level --roi-level on (Section 3.4; in the window, drag with the left
+    /// button instead). Headless with --snapshots, `roi-set.png` and `roi-done.png` are
+    /// written when it is set and when it is fully refined (the paper's Fig. 10).
+    #[arg(long, allow_hyphen_values = true)]
+    pub roi: Option<String>,
+    /// The level at whose start --roi is set.
+    #[arg(long, default_value_t = 0)]
+    pub roi_level: usize,
     /// Window frame rate.
     #[arg(long, default_value_t = 30)]
     pub fps: u32,
@@ -220,6 +229,21 @@ pub fn save_image(img: &SharedImage, out: &Path, flag: &str) -> Result<(), Strin
     }
 }
 
+/// The `--roi` flag as a rectangle of the `w x h` image.
+pub fn parse_roi(s: &str, w: u32, h: u32) -> Result<Rect, String> {
+    let v = super::parse_list("--roi", s, 4)?;
+    if v.iter().any(|x| x.fract() != 0.0 || *x < 0.0) {
+        return Err(format!(
+            "--roi '{s}': the corners must be whole pixel numbers"
+        ));
+    }
+    let (x0, y0, x1, y1) = (v[0] as u32, v[1] as u32, v[2] as u32, v[3] as u32);
+    if x0.max(x1) >= w || y0.max(y1) >= h {
+        return Err(format!("--roi '{s}': outside the {w}x{h} image"));
+    }
+    Ok(Rect::from_corners((x0, y0), (x1, y1)))
+}
+
 /// Runs `tracer preview`.
 pub fn run_preview(args: &PreviewArgs) -> Result<(), String> {
     let (width, height) = args.image_size()?;
@@ -229,13 +253,18 @@ pub fn run_preview(args: &PreviewArgs) -> Result<(), String> {
         args.expr.as_deref(),
         args.domain.as_deref().map(|d| ("--domain", d)),
     )?;
+    let roi = args
+        .roi
+        .as_deref()
+        .map(|s| parse_roi(s, width, height))
+        .transpose()?;
     check_paths(args)?;
     let opts = options_for(args, &model)?;
     let engine = Engine::new(model.clone(), model.domain, model.view, width, height, opts)?;
     if args.headless {
-        run_headless(engine, args)
+        run_headless(engine, args, roi)
     } else {
-        window::run_window(engine, args)
+        window::run_window(engine, args, roi)
     }
 }
 
@@ -243,6 +272,7 @@ pub fn run_preview(args: &PreviewArgs) -> Result<(), String> {
 pub fn run_headless<S: crate::shape::Shape>(
     mut engine: Engine<S>,
     args: &PreviewArgs,
+    mut roi: Option<Rect>,
 ) -> Result<(), String> {
     let start = Instant::now();
     let plan = engine.plan().clone();
@@ -264,20 +294,20 @@ pub fn run_headless<S: crate::shape::Shape>(
         engine.options().lambda
     );
     // Wall time of refinement only: the snapshots' PNG writing is left out.
-    let mut io = std::time::Duration::ZERO;
-    let mut snap = |engine: &Engine<S>, level: usize| -> Result<(), String> {
+    let io = std::cell::Cell::new(std::time::Duration::ZERO);
+    let snap = |engine: &Engine<S>, level: usize| -> Result<(), String> {
         let s = engine.stats();
         crate::say!(
             "level {level} complete: {} iterations, {} evaluations, {:.3} s",
             s.iterations,
             s.evals,
-            (start.elapsed() - io).as_secs_f64()
+            (start.elapsed() - io.get()).as_secs_f64()
         );
         if let Some(dir) = &args.snapshots {
             let t = Instant::now();
             let p = dir.join(format!("level-{level:02}.png"));
             save_image(&engine.image(), &p, "--snapshots")?;
-            io += t.elapsed();
+            io.set(io.get() + t.elapsed());
         }
         Ok(())
     };
@@ -297,8 +327,35 @@ pub fn run_headless<S: crate::shape::Shape>(
                 snap(&engine, level)?;
                 level = l;
             }
+            if l >= args.roi_level {
+                if let Some(r) = roi.take() {
+                    engine.set_roi(r)?;
+                    let s = engine.stats();
+                    crate::say!(
+                        "roi set at level {l}: {} iterations, {:.3} s",
+                        s.iterations,
+                        (start.elapsed() - io.get()).as_secs_f64()
+                    );
+                    if let Some(dir) = &args.snapshots {
+                        save_image(&engine.image(), &dir.join("roi-set.png"), "--snapshots")?;
+                    }
+                }
+            }
         }
-        engine.step();
+        if let Step::Processed {
+            roi_finished: true, ..
+        } = engine.step()
+        {
+            let s = engine.stats();
+            crate::say!(
+                "roi done: {} iterations, {:.3} s",
+                s.iterations,
+                (start.elapsed() - io.get()).as_secs_f64()
+            );
+            if let Some(dir) = &args.snapshots {
+                save_image(&engine.image(), &dir.join("roi-done.png"), "--snapshots")?;
+            }
+        }
     }
     let s = engine.stats();
     if interrupted {
@@ -306,7 +363,7 @@ pub fn run_headless<S: crate::shape::Shape>(
             "interrupted: {} iterations, {} evaluations, {:.3} s; writing the image refined so far",
             s.iterations,
             s.evals,
-            (start.elapsed() - io).as_secs_f64()
+            (start.elapsed() - io.get()).as_secs_f64()
         );
         if let Some(out) = &args.out {
             save_image(&engine.image(), out, "--out")?;
@@ -319,7 +376,7 @@ pub fn run_headless<S: crate::shape::Shape>(
         s.evals,
         s.shading_evals,
         s.range_evals,
-        (start.elapsed() - io).as_secs_f64()
+        (start.elapsed() - io.get()).as_secs_f64()
     );
     // `--out` first: a failing snapshot folder must not cost the final image.
     let out = args

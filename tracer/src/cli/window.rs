@@ -100,7 +100,12 @@ fn outline(buf: &mut [u32], w: u32, h: u32, r: Rect) {
 }
 
 /// Opens the window and runs the two threads until completion or stop.
-pub fn run_window<S: Shape + 'static>(engine: Engine<S>, args: &PreviewArgs) -> Result<(), String> {
+/// `initial_roi` (the `--roi` flag) is set at once.
+pub fn run_window<S: Shape + 'static>(
+    engine: Engine<S>,
+    args: &PreviewArgs,
+    initial_roi: Option<Rect>,
+) -> Result<(), String> {
     if args.fps == 0 || args.fps > 240 {
         return Err(format!("--fps must be in 1..=240, got {}", args.fps));
     }
@@ -128,7 +133,11 @@ pub fn run_window<S: Shape + 'static>(engine: Engine<S>, args: &PreviewArgs) -> 
         thread::spawn(move || refine(engine, stop, done, roi_active, rx))
     };
     let mut drag: Option<(u32, u32)> = None;
-    let mut roi: Option<Rect> = None;
+    let mut roi: Option<Rect> = initial_roi;
+    if let Some(r) = initial_roi {
+        roi_active.store(true, Ordering::Relaxed);
+        let _ = tx.send(Command::SetRoi(r));
+    }
     let mut right_was_down = false;
     let mut completed_written = false;
     let mut last_checkpoint = Instant::now();

@@ -40,6 +40,10 @@ pub enum ChildStart {
     Radial,
 }
 
+/// The bound mode `tracer preview` uses unless told otherwise (measured in
+/// `bench-suite progressive`; see the README's previewer section).
+pub const DEFAULT_BOUND: Bound = Bound::Local;
+
 /// How cones (and terminal rays) are proved clear of the surface.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Bound {
@@ -58,7 +62,7 @@ pub enum Bound {
 
 impl Bound {
     /// Command-line name: `lipschitz`, `local`, or `range`.
-    pub fn name(self) -> &'static str {
+    pub const fn name(self) -> &'static str {
         match self {
             Bound::Lipschitz => "lipschitz",
             Bound::Local => "local",
