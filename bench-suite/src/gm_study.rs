@@ -28,13 +28,48 @@ pub struct Setup {
 
 /// The set-ups: ours, then one factor at a time.
 pub const SETUPS: [Setup; 7] = [
-    Setup { label: "ours", lambda_factor: 1.0, eps: 1e-4, eye_factor: 1.0 },
-    Setup { label: "bound / 2", lambda_factor: 0.5, eps: 1e-4, eye_factor: 1.0 },
-    Setup { label: "bound / 2.5", lambda_factor: 0.4, eps: 1e-4, eye_factor: 1.0 },
-    Setup { label: "bound / 4", lambda_factor: 0.25, eps: 1e-4, eye_factor: 1.0 },
-    Setup { label: "eps 1e-3", lambda_factor: 1.0, eps: 1e-3, eye_factor: 1.0 },
-    Setup { label: "eps 1e-2", lambda_factor: 1.0, eps: 1e-2, eye_factor: 1.0 },
-    Setup { label: "eye 1.5x farther", lambda_factor: 1.0, eps: 1e-4, eye_factor: 1.5 },
+    Setup {
+        label: "ours",
+        lambda_factor: 1.0,
+        eps: 1e-4,
+        eye_factor: 1.0,
+    },
+    Setup {
+        label: "bound / 2",
+        lambda_factor: 0.5,
+        eps: 1e-4,
+        eye_factor: 1.0,
+    },
+    Setup {
+        label: "bound / 2.5",
+        lambda_factor: 0.4,
+        eps: 1e-4,
+        eye_factor: 1.0,
+    },
+    Setup {
+        label: "bound / 4",
+        lambda_factor: 0.25,
+        eps: 1e-4,
+        eye_factor: 1.0,
+    },
+    Setup {
+        label: "eps 1e-3",
+        lambda_factor: 1.0,
+        eps: 1e-3,
+        eye_factor: 1.0,
+    },
+    Setup {
+        label: "eps 1e-2",
+        lambda_factor: 1.0,
+        eps: 1e-2,
+        eye_factor: 1.0,
+    },
+    Setup {
+        label: "eye 1.5x farther",
+        lambda_factor: 1.0,
+        eps: 1e-4,
+        eye_factor: 1.5,
+    },
 ];
 
 /// Point evaluations of the previewer, the overshooting and the standard caster.
@@ -88,13 +123,8 @@ pub fn markdown(rows: &[StudyRow], size: u32) -> String {
     s.push_str("|---|--:|--:|--:|--:|--:|--:|--:|\n");
     for r in rows {
         let _ = write!(s, "| {} | {:.1} |", r.setup.label, r.lambda);
-        for k in 0..3 {
-            let _ = write!(
-                s,
-                " {} | {:.2} |",
-                r.evals[k],
-                r.evals[k] as f64 / (paper[k] * scale)
-            );
+        for (e, p) in r.evals.iter().zip(paper) {
+            let _ = write!(s, " {e} | {:.2} |", *e as f64 / (p * scale));
         }
         s.push('\n');
     }

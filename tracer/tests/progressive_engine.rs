@@ -112,7 +112,7 @@ fn final_image_of_every_bound_mode_equals_the_conventional_ray_caster() {
                             Bound::Lipschitz => opts.overshoot * eps * 1.01,
                             Bound::Range(_) => eps,
                             // Closer to the root than the global caster: never before it.
-                            Bound::Local => f64::INFINITY,
+                            Bound::Local | Bound::Auto => f64::INFINITY,
                         };
                         assert!(
                             (a - b).abs() <= tol && *a >= b - opts.overshoot * eps * 1.01,
@@ -419,6 +419,29 @@ fn bad_options_are_errors() {
     assert!(e.err().unwrap().contains("too far"));
 }
 
+/// The automatic choice takes local bounds on Mitchell's quartic (its gradient is steep
+/// only near the domain's corners) and the global bound on the noise hypertexture (as
+/// steep everywhere), as measured in `bench-suite progressive`.
+#[test]
+fn auto_bound_picks_local_bounds_where_they_pay() {
+    for (name, want) in [
+        ("mitchell-gm", Bound::Local),
+        ("blobby", Bound::Local),
+        ("hypertexture-1", Bound::Lipschitz),
+    ] {
+        let m = model(name);
+        assert_eq!(
+            auto_bound(&m, &m.domain, m.lipschitz.unwrap()),
+            want,
+            "{name}"
+        );
+        let mut o = Options::new(m.lipschitz.unwrap());
+        o.bound = Bound::Auto;
+        let e = Engine::new(m.clone(), m.domain, m.view, 8, 8, o).unwrap();
+        assert_eq!(e.options().bound, want);
+    }
+}
+
 /// An image that cannot be written at the end is kept in the temporary folder, and the
 /// error says where.
 #[test]
@@ -546,7 +569,9 @@ fn bench_table_has_a_row_per_model_and_method() {
     let models = vec![model("mitchell-gm")];
     let rows = bench_table(&models, 16, 16).unwrap();
     let methods: Vec<String> = rows.iter().map(|r| r.method.clone()).collect();
-    let mut expected = vec!["previewer".to_string(), "previewer-local".to_string()];
+    let mut expected: Vec<String> = ["previewer", "previewer-local", "previewer-auto"]
+        .map(String::from)
+        .to_vec();
     expected.extend(tracer::arith::ArithKind::ALL.map(|k| format!("previewer-range-{k}")));
     expected.extend(["overshoot-rc", "standard-rc", "local-rc"].map(String::from));
     assert_eq!(methods, expected);

@@ -66,9 +66,10 @@ pub struct PreviewArgs {
     pub paper_child_start: bool,
     /// How cones and terminal rays are proved clear of the surface: `lipschitz` (the
     /// paper's one global bound), `local` (a bound per cone and ray segment from the
-    /// range of the gradient over it), or `range` (each cone segment tested with the
-    /// --arith range arithmetic over its frustum, terminal rays by Algorithm 1: no
-    /// Lipschitz bound needed).
+    /// range of the gradient over it), `auto` (local where the gradient's bounds over
+    /// 8^3 sub-boxes are mostly below half the global one, else lipschitz), or `range`
+    /// (each cone segment tested with the --arith range arithmetic over its frustum,
+    /// terminal rays by Algorithm 1: no Lipschitz bound needed).
     #[arg(long, default_value = crate::progressive::DEFAULT_BOUND.name(), allow_hyphen_values = true)]
     pub bound: String,
     /// Arithmetic of `--bound range`.
@@ -158,11 +159,12 @@ pub fn parse_bound(bound: &str, arith: &str) -> Result<Bound, String> {
     match bound.to_ascii_lowercase().as_str() {
         "lipschitz" => Ok(Bound::Lipschitz),
         "local" => Ok(Bound::Local),
+        "auto" => Ok(Bound::Auto),
         "range" => Ok(Bound::Range(
             arith.parse().map_err(|e| format!("--arith: {e}"))?,
         )),
         _ => Err(format!(
-            "--bound '{bound}': expected lipschitz, local or range"
+            "--bound '{bound}': expected lipschitz, local, auto or range"
         )),
     }
 }

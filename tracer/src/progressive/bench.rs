@@ -46,14 +46,15 @@ pub fn previewer_method(b: Bound) -> String {
         Bound::Lipschitz => "previewer".into(),
         Bound::Local => "previewer-local".into(),
         Bound::Range(k) => format!("previewer-range-{k}"),
+        Bound::Auto => "previewer-auto".into(),
     }
 }
 
-/// Every method, in display order: the previewer with the global bound, local bounds
-/// and the range test in each arithmetic of the one list; then the overshooting,
+/// Every method, in display order: the previewer with the global bound, local bounds,
+/// their automatic choice and the range test in each arithmetic of the one list; then the overshooting,
 /// standard and local ray casters.
 pub fn bench_methods() -> Vec<(String, Method)> {
-    let mut v = vec![Bound::Lipschitz, Bound::Local];
+    let mut v = vec![Bound::Lipschitz, Bound::Local, Bound::Auto];
     v.extend(ArithKind::ALL.map(Bound::Range));
     let mut out: Vec<(String, Method)> = v
         .into_iter()

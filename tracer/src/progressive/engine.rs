@@ -41,23 +41,58 @@ pub enum ChildStart {
 }
 
 /// The bound mode `tracer preview` uses unless told otherwise (measured in
-/// `bench-suite progressive`; see the README's previewer section).
-pub const DEFAULT_BOUND: Bound = Bound::Local;
+/// `bench-suite progressive`; see the README's previewer section): local bounds where
+/// they pay, the global bound elsewhere.
+pub const DEFAULT_BOUND: Bound = Bound::Auto;
+
+/// Sub-boxes per axis of [`Bound::Auto`]'s probe.
+pub const AUTO_PROBE_SPLITS: usize = 8;
+/// [`Bound::Auto`] takes local bounds when the median gradient bound over the probe's
+/// sub-boxes is below this share of the global bound.
+pub const AUTO_LOCAL_SHARE: f64 = 0.5;
+
+/// [`Bound::Auto`]'s choice: local bounds when the gradient bounds over
+/// [`AUTO_PROBE_SPLITS`]^3 sub-boxes of the domain are mostly well below the global bound
+/// `lambda` (their median below [`AUTO_LOCAL_SHARE`] of it), else the global bound: where
+/// the gradient is about as steep everywhere (noise), a segment's bound is no smaller
+/// and only costs its range evaluation (measured: 2x slower on the hypertexture).
+pub fn auto_bound<S: Shape + ?Sized>(shape: &S, domain: &Aabb, lambda: f64) -> Bound {
+    let n = AUTO_PROBE_SPLITS;
+    let size = (domain.max - domain.min) / n as f64;
+    let mut v = Vec::with_capacity(n * n * n);
+    for i in 0..n {
+        for j in 0..n {
+            for k in 0..n {
+                let lo = domain.min + size * DVec3::new(i as f64, j as f64, k as f64);
+                let b = Aabb::new(lo, lo + size);
+                v.push(crate::lipschitz_bound::gradient_bound_on_box(shape, &b));
+            }
+        }
+    }
+    v.sort_by(f64::total_cmp);
+    if v[v.len() / 2] < AUTO_LOCAL_SHARE * lambda {
+        Bound::Local
+    } else {
+        Bound::Lipschitz
+    }
+}
 
 /// How cones (and terminal rays) are proved clear of the surface.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Bound {
     /// The paper's: one global Lipschitz bound [`Options::lambda`] (Fig. 3, and the
     /// overshooting ray caster for terminal samples).
     Lipschitz,
     /// Local Lipschitz bounds: per cone segment ([`trace_cone_local`]) and per ray
     /// segment for terminal rays ([`local_trace`]), each capped by the global bound.
-    #[default]
     Local,
     /// No Lipschitz bound: each cone segment is tested with this range arithmetic over
     /// the cone's frustum ([`trace_cone_range`]), terminal rays by Algorithm 1
     /// ([`first_root`]) from the radius the cones cleared.
     Range(ArithKind),
+    /// [`Bound::Local`] or [`Bound::Lipschitz`], chosen by [`auto_bound`] when the engine
+    /// is made.
+    Auto,
 }
 
 impl Bound {
@@ -67,6 +102,7 @@ impl Bound {
             Bound::Lipschitz => "lipschitz",
             Bound::Local => "local",
             Bound::Range(_) => "range",
+            Bound::Auto => "auto",
         }
     }
     /// Whether this mode needs [`Options::lambda`].
@@ -241,7 +277,7 @@ impl<S: Shape> Engine<S> {
         view: View,
         width: u32,
         height: u32,
-        opts: Options,
+        mut opts: Options,
     ) -> Result<Self, String> {
         if opts.bound.needs_lambda() && !(opts.lambda.is_finite() && opts.lambda > 0.0) {
             return Err(format!(
@@ -262,6 +298,10 @@ impl<S: Shape> Engine<S> {
             return Err(format!("--aa must be in 1..=16, got {}", opts.aa));
         }
         crate::camera::check_size(width, height)?;
+        crate::shape::check_domain(&domain).map_err(|e| format!("domain box: {e}"))?;
+        if opts.bound == Bound::Auto {
+            opts.bound = auto_bound(&shape, &domain, opts.lambda);
+        }
         let (vw, vh) = (width * opts.aa, height * opts.aa);
         if vw > crate::camera::MAX_SIDE || vh > crate::camera::MAX_SIDE {
             return Err(format!(
@@ -271,7 +311,6 @@ impl<S: Shape> Engine<S> {
                 crate::camera::MAX_SIDE
             ));
         }
-        crate::shape::check_domain(&domain).map_err(|e| format!("domain box: {e}"))?;
         let cam = Camera::try_new(view, vw, vh)?;
         let plan = Plan::for_image(vw, vh);
         let r_near = box_distance(cam.eye, &domain);
@@ -491,7 +530,8 @@ impl<S: Shape> Engine<S> {
                 };
                 let (t0, eps, k) = (start.max(t_in), self.opts.eps, self.opts.overshoot);
                 match self.opts.bound {
-                    Bound::Local => {
+                    // `Auto` is resolved in `Engine::new`.
+                    Bound::Local | Bound::Auto => {
                         let mut c = LocalCounts::default();
                         let t = local_trace(&self.bounded(), o, d, t0, t_out, eps, k, &mut c);
                         evals = c.evals;
