@@ -36,7 +36,12 @@ enum Cmd {
     Range(RangeArgs),
     /// List the models with their domain and default view.
     List,
-    /// Progressive refinement previewer (Lipschitz cone tracing).
+    /// Progressive refinement previewer (cone tracing with Lipschitz bounds or a range
+    /// arithmetic).
+    ///
+    /// In the window: drag with the left mouse button to set a region of interest (it
+    /// is refined first, outlined in white), right-click to cancel it; Esc or closing
+    /// the window stops refinement and writes --out.
     #[command(after_long_help = tracer::models::formula::SYNTAX)]
     Preview(tracer::cli::preview::PreviewArgs),
     /// Print a shell completion script: bash, zsh, fish, elvish or powershell.
