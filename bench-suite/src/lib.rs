@@ -8,6 +8,8 @@
 //! - [`progressive`]: the progressive-refinement paper's Table 1 and Fig. 9.
 //! - [`formulas`]: random formulas over random boxes, each arithmetic against intervals
 //!   and revised affine forms.
+//! - [`gm_study`]: why our Mitchell counts differ from the paper's, one factor at a time.
+//! - [`fig10`]: that paper's Fig. 10, a landscape refined with a region of interest.
 //! - [`scaling`]: cost as the resolution doubles, with and without culling.
 //! - [`rng`]: a small reproducible generator for sampling.
 
@@ -16,6 +18,8 @@
 pub mod chart;
 pub mod counter;
 pub mod formulas;
+pub mod fig10;
+pub mod gm_study;
 pub mod paper;
 pub mod progressive;
 pub mod scaling;

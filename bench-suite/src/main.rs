@@ -5,11 +5,12 @@
 //!                    [--budget SECONDS] [--repeats N] [--culling] [--out DIR]
 //! bench-suite tightness [--models a,b] [--arith ...] [--samples N] [--out DIR]
 //! bench-suite scaling [--models a,b] [--arith revaa] [--base-scale F] [--steps N] [--out DIR]
-//! bench-suite progressive [--size N] [--models a,b] [--layers L] [--out DIR]
+//! bench-suite progressive [--size N] [--models a,b] [--layers L] [--rounds N]
+//!                         [--methods a,b] [--out DIR]
 //! bench-suite formulas [--formulas N] [--depth D] [--seed S] [--arith ...] [--out DIR]
 //! ```
 
-use bench_suite::{formulas, progressive, scaling, table1, tightness};
+use bench_suite::{fig10, formulas, gm_study, progressive, scaling, table1, tightness};
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -117,7 +118,55 @@ enum Cmd {
         /// Fig. 9 runs the hypertexture with L = 1..=LAYERS (0: skip Fig. 9).
         #[arg(long, default_value_t = progressive::FIG9_LAYERS)]
         layers: u32,
+        /// Timing rounds: every method once per round, in turn (rows keep the median).
+        #[arg(long, default_value_t = 1)]
+        rounds: u32,
+        /// Comma-separated methods (default: all; see the table's method column).
+        #[arg(long)]
+        methods: Option<String>,
         #[arg(long, default_value = "bench-out")]
+        out: PathBuf,
+    },
+    /// The progressive-refinement paper's Fig. 9 alone: total rendering time of the
+    /// hypertexture with L = 1..LAYERS noise layers, per method, as bar charts.
+    Fig9 {
+        /// Image width and height in pixels.
+        #[arg(long, default_value_t = progressive::DEFAULT_SIZE)]
+        size: u32,
+        /// L = 1..=LAYERS.
+        #[arg(long, default_value_t = progressive::FIG9_LAYERS)]
+        layers: u32,
+        /// Timing rounds: every method once per round, in turn (rows keep the median).
+        #[arg(long, default_value_t = 1)]
+        rounds: u32,
+        /// Comma-separated methods (default: the paper's three and the default previewer).
+        #[arg(long)]
+        methods: Option<String>,
+        #[arg(long, default_value = "docs")]
+        out: PathBuf,
+    },
+    /// Our Mitchell counts against the progressive-refinement paper's Table 1, one
+    /// set-up factor (bound, precision, camera) changed at a time.
+    GmStudy {
+        /// Image width and height in pixels.
+        #[arg(long, default_value_t = 400)]
+        size: u32,
+        #[arg(long, default_value = "bench-out")]
+        out: PathBuf,
+    },
+    /// The progressive-refinement paper's Fig. 10: the landscape at 800x400 refined with
+    /// a region of interest, headless: three frames and their times.
+    Fig10 {
+        /// Image size WxH.
+        #[arg(long, default_value = "800x400")]
+        size: String,
+        /// The region X0,Y0,X1,Y1 (pixel corners, inclusive).
+        #[arg(long, default_value = "300,230,499,329", allow_hyphen_values = true)]
+        roi: String,
+        /// The level at whose start the region is set.
+        #[arg(long, default_value_t = 3)]
+        roi_level: usize,
+        #[arg(long, default_value = "docs")]
         out: PathBuf,
     },
 }
@@ -256,10 +305,16 @@ fn run(cli: Cli) -> Result<(), String> {
             size,
             models,
             layers,
+            rounds,
+            methods,
             out,
         } => {
             let mut o = progressive::Options::new(out);
             o.size = size;
+            o.rounds = rounds;
+            if let Some(m) = methods {
+                o.methods = progressive::parse_methods(&m)?;
+            }
             if let Some(m) = models {
                 o.models = progressive::parse_models(&m)?;
             }
@@ -281,6 +336,54 @@ fn run(cli: Cli) -> Result<(), String> {
                     eprintln!("{line}");
                 }
             }
+            Ok(())
+        }
+        Cmd::Fig9 {
+            size,
+            layers,
+            rounds,
+            methods,
+            out,
+        } => {
+            let mut o = progressive::Options::new(out);
+            o.size = size;
+            o.models = Vec::new();
+            o.layers = layers.max(1);
+            o.rounds = rounds;
+            o.verbose = true;
+            o.methods = match methods {
+                Some(m) => progressive::parse_methods(&m)?,
+                None => progressive::fig9_default_methods(),
+            };
+            let report = progressive::run(&o)?;
+            tracer::out!("{}", progressive::markdown(&report));
+            eprintln!(
+                "wrote {}/fig9.md, fig9.csv, fig9.png, fig9-evals.png",
+                o.out.display()
+            );
+            Ok(())
+        }
+        Cmd::GmStudy { size, out } => {
+            let m = tracer::models::find("mitchell-gm")?;
+            let rows = gm_study::run(&m, size)?;
+            let md = gm_study::markdown(&rows, size);
+            tracer::out!("{md}");
+            write_out(&out, "gm-study.md", &md)
+        }
+        Cmd::Fig10 {
+            size,
+            roi,
+            roi_level,
+            out,
+        } => {
+            let (w, h) = fig10::parse_size(&size)?;
+            let mut o = fig10::Options10::new(out);
+            o.size = (w, h);
+            o.roi = fig10::parse_roi(&roi, w, h)?;
+            o.roi_level = roi_level;
+            let (_, md) = fig10::run(&o)?;
+            tracer::out!("{md}");
+            eprintln!("wrote {}/fig10.png, fig10.md", o.out.display());
             Ok(())
         }
     }

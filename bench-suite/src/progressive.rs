@@ -25,13 +25,12 @@ pub const FIRST_FRAME_GOAL_S: f64 = 0.1;
 /// The two ray casters the previewer must beat on point evaluations.
 pub const RAY_CASTERS: [&str; 2] = ["overshoot-rc", "standard-rc"];
 /// Every method `bench_table` reports, in display order.
-pub const METHODS: [&str; 5] = [
-    "previewer",
-    "previewer-local",
-    "overshoot-rc",
-    "standard-rc",
-    "local-rc",
-];
+pub fn methods() -> Vec<String> {
+    tracer::progressive::bench_methods()
+        .into_iter()
+        .map(|(n, _)| n)
+        .collect()
+}
 /// The methods the paper's Fig. 9 plots, in its legend's order.
 pub const FIG9_METHODS: [&str; 3] = ["previewer", "overshoot-rc", "standard-rc"];
 
@@ -104,6 +103,42 @@ pub fn paper_cell(model: &str, method: &str, size: u32) -> Option<PaperCell> {
     }
 }
 
+/// Fig. 9's methods by default: the paper's three and the previewer's default mode.
+pub fn fig9_default_methods() -> Vec<String> {
+    let mut v: Vec<String> = FIG9_METHODS.iter().map(|s| s.to_string()).collect();
+    v.insert(1, goal_previewer());
+    v
+}
+
+/// The previewer whose counts the goals judge: the default bound mode of `tracer
+/// preview` ([`tracer::progressive::DEFAULT_BOUND`]).
+pub fn goal_previewer() -> String {
+    tracer::progressive::previewer_method(tracer::progressive::DEFAULT_BOUND)
+}
+
+/// Checks comma-separated method names against [`methods`].
+pub fn parse_methods(s: &str) -> Result<Vec<String>, String> {
+    let all = methods();
+    let v: Vec<String> = s
+        .split(',')
+        .map(str::trim)
+        .filter(|n| !n.is_empty())
+        .map(String::from)
+        .collect();
+    for n in &v {
+        if !all.contains(n) {
+            return Err(format!(
+                "--methods: unknown method '{n}' (expected one of: {})",
+                all.join(", ")
+            ));
+        }
+    }
+    if v.is_empty() {
+        return Err("--methods names no method".into());
+    }
+    Ok(v)
+}
+
 /// Looks up comma-separated model names among [`tracer::models::progressive::all`], keeping the
 /// given order and dropping repeats.
 pub fn parse_models(s: &str) -> Result<Vec<Model>, String> {
@@ -143,6 +178,10 @@ pub struct Options {
     pub out: PathBuf,
     /// Print each model's progress on stderr.
     pub verbose: bool,
+    /// Timing rounds: every method once per round, in turn; rows keep the median.
+    pub rounds: u32,
+    /// Only the methods with these names (empty: all of [`methods`]).
+    pub methods: Vec<String>,
 }
 
 impl Options {
@@ -154,6 +193,8 @@ impl Options {
             layers: FIG9_LAYERS,
             out,
             verbose: false,
+            rounds: 1,
+            methods: Vec::new(),
         }
     }
 }
@@ -169,16 +210,19 @@ pub struct Report {
     pub fig9: Vec<(u32, Vec<BenchRow>)>,
 }
 
-fn bench(m: &Model, size: u32, verbose: bool) -> Result<Vec<BenchRow>, String> {
+fn bench(m: &Model, o: &Options) -> Result<Vec<BenchRow>, String> {
+    let (size, verbose) = (o.size, o.verbose);
     if verbose {
         eprintln!("progressive: {} at {size}x{size} ...", m.name);
     }
-    let rows = tracer::progressive::bench_table(std::slice::from_ref(m), size, size)?;
+    let keep = |name: &str| o.methods.is_empty() || o.methods.iter().any(|k| k == name);
+    let rows =
+        tracer::progressive::bench_rounds(std::slice::from_ref(m), size, size, o.rounds, &keep)?;
     if verbose {
         for r in &rows {
             eprintln!(
-                "  {:<16} {:>9.3} s {:>12} evals",
-                r.method, r.seconds, r.evals
+                "  {:<22} {:>9.3} s {:>12} point {:>10} range evals",
+                r.method, r.seconds, r.evals, r.range_evals
             );
         }
     }
@@ -203,14 +247,14 @@ pub fn run(o: &Options) -> Result<Report, String> {
         .map_err(|e| format!("cannot create '{}': {e}", o.out.display()))?;
     let mut table = Vec::new();
     for m in &o.models {
-        table.extend(bench(m, o.size, o.verbose)?);
+        table.extend(bench(m, o)?);
     }
     let mut fig9 = Vec::new();
     for l in 1..=o.layers {
         let name = format!("hypertexture-{l}");
         let done: Vec<BenchRow> = table.iter().filter(|r| r.model == name).cloned().collect();
         let rows = if done.is_empty() {
-            bench(&parse_models(&name)?[0], o.size, o.verbose)?
+            bench(&parse_models(&name)?[0], o)?
         } else {
             done
         };
@@ -225,8 +269,13 @@ pub fn run(o: &Options) -> Result<Report, String> {
         let p = o.out.join(name);
         std::fs::write(&p, text).map_err(|e| format!("cannot write '{}': {e}", p.display()))
     };
-    write("progressive.md", &markdown(&report))?;
-    write("progressive.csv", &csv(&report))?;
+    if o.models.is_empty() {
+        // Fig. 9 alone (`bench-suite fig9`).
+        write("fig9.md", &markdown(&report))?;
+    } else {
+        write("progressive.md", &markdown(&report))?;
+        write("progressive.csv", &csv(&report))?;
+    }
     if !report.fig9.is_empty() {
         write("fig9.csv", &fig9_csv(&report))?;
         fig9_charts(&report, &o.out)?;
@@ -268,15 +317,17 @@ fn model_names(rows: &[BenchRow]) -> Vec<&str> {
 pub fn eval_goal_misses(rows: &[BenchRow]) -> Vec<String> {
     let mut out = Vec::new();
     for m in model_names(rows) {
-        let Some(p) = find(rows, m, "previewer") else {
+        let gp = goal_previewer();
+        let Some(p) = find(rows, m, &gp) else {
             continue;
         };
         for rc in RAY_CASTERS {
             if let Some(r) = find(rows, m, rc) {
-                if p.evals >= r.evals {
+                if p.evals + p.range_evals >= r.evals {
                     out.push(format!(
-                        "on {m} the previewer needs {} point evaluations, not fewer than {rc} ({})",
-                        p.evals, r.evals
+                        "on {m} {gp} needs {} point and {} range evaluations, not fewer in \
+                         all than {rc}'s {} point evaluations",
+                        p.evals, p.range_evals, r.evals
                     ));
                 }
             }
@@ -287,7 +338,7 @@ pub fn eval_goal_misses(rows: &[BenchRow]) -> Vec<String> {
 
 /// The first full-frame time of [`GOAL_MODEL`]'s previewer, if it was measured.
 pub fn first_frame_s(rows: &[BenchRow]) -> Option<f64> {
-    find(rows, GOAL_MODEL, "previewer").and_then(|r| r.first_frame_s)
+    find(rows, GOAL_MODEL, &goal_previewer()).and_then(|r| r.first_frame_s)
 }
 
 /// The goal lines: one per model for the evaluation goal, one for the first-frame goal.
@@ -296,7 +347,7 @@ pub fn goal_lines(r: &Report) -> Vec<String> {
     let mut out = Vec::new();
     let misses = eval_goal_misses(&r.table);
     for m in model_names(&r.table) {
-        let Some(p) = find(&r.table, m, "previewer") else {
+        let Some(p) = find(&r.table, m, &goal_previewer()) else {
             continue;
         };
         if misses.iter().any(|s| s.starts_with(&format!("on {m} "))) {
@@ -305,11 +356,13 @@ pub fn goal_lines(r: &Report) -> Vec<String> {
         let parts: Vec<String> = RAY_CASTERS
             .iter()
             .filter_map(|rc| {
-                find(&r.table, m, rc).map(|x| format!("{}x {rc}", ratio(p.evals, x.evals)))
+                find(&r.table, m, rc)
+                    .map(|x| format!("{}x {rc}", ratio(p.evals + p.range_evals, x.evals)))
             })
             .collect();
         out.push(format!(
-            "goal met on {m}: the previewer needs fewer point evaluations than both ray casters ({})",
+            "goal met on {m}: {} needs fewer point and range evaluations in all than both ray casters' point evaluations ({})",
+            goal_previewer(),
             parts.join(", ")
         ));
     }
@@ -335,7 +388,7 @@ pub fn goal_lines(r: &Report) -> Vec<String> {
             FIRST_FRAME_GOAL_S * 1e3
         )),
         None => {
-            if find(&r.table, GOAL_MODEL, "previewer").is_some() {
+            if find(&r.table, GOAL_MODEL, &goal_previewer()).is_some() {
                 out.push(format!(
                     "!!! GOAL MISSED: the previewer of {GOAL_MODEL} never painted a full frame"
                 ));
@@ -349,50 +402,54 @@ pub fn goal_lines(r: &Report) -> Vec<String> {
 pub fn markdown(r: &Report) -> String {
     let mut s = String::new();
     let n = r.size;
-    let _ = writeln!(
-        s,
-        "## Table 1 (Gamito and Maddock 2007) at {n}x{n}\n\n\
-         Point evaluations of `f` while tracing (normals excluded, as for the ray casters); \
-         the `-local` methods also pay the range evaluations (`Dual<Interval>`) of their local \
-         Lipschitz bounds. `/ overshoot-rc` and `/ standard-rc` are this method's point \
-         evaluations over that ray caster's. The paper's columns are from its Table 1 \
-         (800x800, Pentium 4 at 1.2 GHz: compare counts, not seconds).\n"
-    );
-    s.push_str(
-        "| model | method | seconds | point evals | range evals | / overshoot-rc | / standard-rc \
-         | first frame ms | iterations | paper seconds | paper evals |\n",
-    );
-    s.push_str("|---|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n");
-    for m in model_names(&r.table) {
-        let label = PAPER_TABLE1
-            .iter()
-            .find(|p| p.model == m)
-            .map_or(m.to_string(), |p| format!("{m} ({})", p.label));
-        for method in METHODS {
-            let Some(row) = find(&r.table, m, method) else {
-                continue;
-            };
-            let rel =
-                |rc: &str| find(&r.table, m, rc).map_or("".into(), |x| ratio(row.evals, x.evals));
-            let paper = paper_cell(m, method, n);
-            let _ = writeln!(
-                s,
-                "| {label} | {method} | {:.3} | {} | {} | {} | {} | {} | {} | {} | {} |",
-                row.seconds,
-                row.evals,
-                row.range_evals,
-                rel("overshoot-rc"),
-                rel("standard-rc"),
-                opt_ms(row.first_frame_s),
-                row.iterations.map_or(String::new(), |i| i.to_string()),
-                paper.map_or(String::new(), |p| format!("{:.2}", p.seconds)),
-                paper.map_or(String::new(), |p| p.evals.to_string()),
-            );
+    if !r.table.is_empty() {
+        let _ = writeln!(
+            s,
+            "## Table 1 (Gamito and Maddock 2007) at {n}x{n}\n\n\
+             Point evaluations of `f` while tracing (normals excluded, as for the ray casters); \
+             the `-local` methods also pay the range evaluations (`Dual<Interval>`) of their local \
+             Lipschitz bounds. `/ overshoot-rc` and `/ standard-rc` are this method's point \
+             evaluations over that ray caster's. The paper's columns are from its Table 1 \
+             (800x800, Pentium 4 at 1.2 GHz: compare counts, not seconds).\n"
+        );
+        s.push_str(
+            "| model | method | seconds | point evals | range evals | / overshoot-rc | / standard-rc \
+             | first frame ms | iterations | paper seconds | paper evals |\n",
+        );
+        s.push_str("|---|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n");
+        for m in model_names(&r.table) {
+            let label = PAPER_TABLE1
+                .iter()
+                .find(|p| p.model == m)
+                .map_or(m.to_string(), |p| format!("{m} ({})", p.label));
+            for method in methods() {
+                let method = method.as_str();
+                let Some(row) = find(&r.table, m, method) else {
+                    continue;
+                };
+                let rel = |rc: &str| {
+                    find(&r.table, m, rc).map_or("".into(), |x| ratio(row.evals, x.evals))
+                };
+                let paper = paper_cell(m, method, n);
+                let _ = writeln!(
+                    s,
+                    "| {label} | {method} | {:.3} | {} | {} | {} | {} | {} | {} | {} | {} |",
+                    row.seconds,
+                    row.evals,
+                    row.range_evals,
+                    rel("overshoot-rc"),
+                    rel("standard-rc"),
+                    opt_ms(row.first_frame_s),
+                    row.iterations.map_or(String::new(), |i| i.to_string()),
+                    paper.map_or(String::new(), |p| format!("{:.2}", p.seconds)),
+                    paper.map_or(String::new(), |p| p.evals.to_string()),
+                );
+            }
         }
-    }
-    s.push('\n');
-    for line in goal_lines(r) {
-        let _ = writeln!(s, "- {line}");
+        s.push('\n');
+        for line in goal_lines(r) {
+            let _ = writeln!(s, "- {line}");
+        }
     }
     if !r.fig9.is_empty() {
         let _ = writeln!(
@@ -405,7 +462,8 @@ pub fn markdown(r: &Report) -> String {
         s.push_str("| L | method | seconds | point evals | range evals | / overshoot-rc | / standard-rc |\n");
         s.push_str("|--:|---|--:|--:|--:|--:|--:|\n");
         for (l, rows) in &r.fig9 {
-            for method in METHODS {
+            for method in methods() {
+                let method = method.as_str();
                 let Some(row) = rows.iter().find(|x| x.method == method) else {
                     continue;
                 };
@@ -450,7 +508,7 @@ fn csv_rows(s: &mut String, rows: &[BenchRow], size: u32, prefix: Option<u32>) {
                 .find(|x| x.model == row.model && x.method == rc)
                 .map_or(String::new(), |x| ratio(row.evals, x.evals))
         };
-        let paper = paper_cell(&row.model, row.method, size);
+        let paper = paper_cell(&row.model, &row.method, size);
         if let Some(l) = prefix {
             let _ = write!(s, "{l},");
         }
@@ -491,12 +549,21 @@ pub fn fig9_csv(r: &Report) -> String {
 /// Fig. 9's bar charts: seconds (what the paper plots) and point evaluations, one group
 /// per L, one bar per method of the paper.
 fn fig9_charts(r: &Report, dir: &Path) -> Result<(), String> {
+    let names: Vec<String> = fig9_default_methods()
+        .into_iter()
+        .filter(|m| {
+            r.fig9
+                .iter()
+                .any(|(_, rows)| rows.iter().any(|x| &x.method == m))
+        })
+        .collect();
+    let labels: Vec<&str> = names.iter().map(String::as_str).collect();
     let groups = |value: &dyn Fn(&BenchRow) -> f64| -> Vec<Group> {
         r.fig9
             .iter()
             .map(|(l, rows)| Group {
                 label: format!("L = {l}"),
-                bars: FIG9_METHODS
+                bars: labels
                     .iter()
                     .map(|m| {
                         rows.iter().find(|x| x.method == *m).map(|x| Bar {
@@ -512,14 +579,14 @@ fn fig9_charts(r: &Report, dir: &Path) -> Result<(), String> {
     chart::bar_chart(
         &dir.join("fig9.png"),
         &format!("Fig. 9: total rendering time, hypertexture with L layers, {n}x{n}"),
-        &FIG9_METHODS,
+        &labels,
         &groups(&|x| x.seconds),
     )?;
     chart::bar_chart_with_axis(
         &dir.join("fig9-evals.png"),
         &format!("Point evaluations, hypertexture with L layers, {n}x{n}"),
         "point evaluations (log scale)",
-        &FIG9_METHODS,
+        &labels,
         &groups(&|x| x.evals as f64),
     )?;
     Ok(())
@@ -529,10 +596,10 @@ fn fig9_charts(r: &Report, dir: &Path) -> Result<(), String> {
 mod tests {
     use super::*;
 
-    fn row(model: &str, method: &'static str, evals: u64) -> BenchRow {
+    fn row(model: &str, method: &str, evals: u64) -> BenchRow {
         BenchRow {
             model: model.into(),
-            method,
+            method: method.into(),
             seconds: 1.0,
             evals,
             range_evals: 0,
@@ -562,10 +629,10 @@ mod tests {
     #[test]
     fn goal_misses_name_the_model_and_the_caster() {
         let rows = vec![
-            row("a", "previewer", 5),
+            row("a", &goal_previewer(), 5),
             row("a", "overshoot-rc", 6),
             row("a", "standard-rc", 9),
-            row("b", "previewer", 7),
+            row("b", &goal_previewer(), 7),
             row("b", "overshoot-rc", 7),
             row("b", "standard-rc", 9),
         ];

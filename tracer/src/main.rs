@@ -36,7 +36,12 @@ enum Cmd {
     Range(RangeArgs),
     /// List the models with their domain and default view.
     List,
-    /// Progressive refinement previewer (Lipschitz cone tracing).
+    /// Progressive refinement previewer (cone tracing with Lipschitz bounds or a range
+    /// arithmetic).
+    ///
+    /// In the window: drag with the left mouse button to set a region of interest (it
+    /// is refined first, outlined in white), right-click to cancel it; Esc or closing
+    /// the window stops refinement and writes --out.
     #[command(after_long_help = tracer::models::formula::SYNTAX)]
     Preview(tracer::cli::preview::PreviewArgs),
     /// Print a shell completion script: bash, zsh, fish, elvish or powershell.
@@ -105,6 +110,15 @@ struct RenderArgs {
     /// Statistics: text (default), or json (one object on stdout, nothing else there).
     #[arg(long, default_value = "text", allow_hyphen_values = true)]
     stats: String,
+    /// Anti-aliasing: render N x N rays per pixel and filter them into the pixel with
+    /// --filter (the previewer's Appendix A filter); the depth map keeps each pixel's
+    /// nearest sub-pixel depth.
+    #[arg(long, default_value_t = 1)]
+    aa: u32,
+    /// Anti-aliasing filter (with --aa above 1): a B-spline of degree 0 to 3: box, tent,
+    /// quadratic or cubic.
+    #[arg(long, default_value = "quadratic", allow_hyphen_values = true)]
+    filter: String,
 }
 
 /// The `--arith` help text, listing the arithmetics of the one list.
@@ -190,7 +204,22 @@ fn cmd_render(a: &RenderArgs) -> Result<(), String> {
     if let Some(s) = &a.ortho {
         view.ortho = Some(parse_ortho(s)?);
     }
-    tracer::camera::Camera::try_new(view, width, height).map_err(|e| format!("camera: {e}"))?;
+    let kernel: tracer::render::bspline_filter::Kernel =
+        a.filter.parse().map_err(|e| format!("--filter: {e}"))?;
+    if a.aa == 0 || a.aa > 16 {
+        return Err(format!("--aa {}: must be in 1..=16", a.aa));
+    }
+    let (vw, vh) = (width as u64 * a.aa as u64, height as u64 * a.aa as u64);
+    let max = tracer::camera::MAX_SIDE as u64;
+    if vw > max || vh > max {
+        return Err(format!(
+            "--aa {}: {width}x{height} at {0} rays per pixel side is {vw}x{vh} rays; each \
+             side must be at most {max}",
+            a.aa
+        ));
+    }
+    let (vw, vh) = (vw as u32, vh as u32);
+    tracer::camera::Camera::try_new(view, vw, vh).map_err(|e| format!("camera: {e}"))?;
     let eps = a
         .eps
         .as_deref()
@@ -203,7 +232,7 @@ fn cmd_render(a: &RenderArgs) -> Result<(), String> {
     // Fail on a refused or unwritable output before a long render.
     check_outputs(&out, a.depth.as_deref())?;
 
-    let mut opts = RenderOptions::for_view(view, domain, width, height);
+    let mut opts = RenderOptions::for_view(view, domain, vw, vh);
     opts.eps = eps;
     opts.culling = !a.no_culling;
     opts.pruning = !a.no_pruning;
@@ -214,6 +243,12 @@ fn cmd_render(a: &RenderArgs) -> Result<(), String> {
     // Ctrl-C stops starting tiles; the finished ones are written below.
     opts.cancel = Some(tracer::interrupt::cancel_flag());
     let res = render_kind(kind, &model.shape, &opts)?;
+    let res = if a.aa > 1 {
+        use tracer::render::bspline_filter::{downsample_render, Filter};
+        downsample_render(&res, width, height, &Filter::new(kernel, a.aa))
+    } else {
+        res
+    };
     write_png(&out, width, height, &res.rgb).map_err(|e| format!("--out: {e}"))?;
     if let Some(d) = &a.depth {
         write_depth(d, width, height, &res.depth).map_err(|e| format!("--depth: {e}"))?;

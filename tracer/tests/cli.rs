@@ -519,22 +519,28 @@ fn range_and_preview_take_every_listed_model() {
         png.to_str().unwrap(),
     ]);
     assert_eq!(out.status.code(), Some(0), "{out:?}");
-    // A gradient the interval bound cannot bound is one clear line, not a wrong image.
-    let out = tmp("hair-preview.png");
-    assert_user_error(
-        &[
-            "preview",
-            "hair",
-            "--headless",
-            "--width",
-            "8",
-            "--height",
-            "8",
-            "--out",
-            out.to_str().unwrap(),
-        ],
-        "Lipschitz",
+    // A gradient the interval bound cannot bound: a note, and the range test instead
+    // (sound without any Lipschitz bound), not a wrong image.
+    let png = tmp("hair-preview.png");
+    let out = tracer(&[
+        "preview",
+        "hair",
+        "--headless",
+        "--width",
+        "8",
+        "--height",
+        "8",
+        "--out",
+        png.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("Lipschitz") && err.contains("--bound range"),
+        "{err}"
     );
+    assert!(String::from_utf8_lossy(&out.stdout).contains("bound range"));
+    assert!(image::open(&png).is_ok());
 }
 
 /// A constant zero divisor or `ln` of a constant `<= 0` is a parse error naming the
@@ -899,7 +905,7 @@ fn model_files_stdin_and_formats() {
     assert_user_error(&["render", fs, "--format", "obj"], "--format");
     assert_user_error(
         &["render", fs, "--format", "hf"],
-        "HyperFun support is not built",
+        "notch.expr:2:1: expected a body name",
     );
     let bad = tmp("bad.vm");
     std::fs::write(&bad, "a var-x\nb tan a\n").unwrap();
@@ -945,4 +951,176 @@ fn listed_formulas_are_the_models() {
         }
     }
     assert_eq!(n, 11);
+/// `--bound` picks how cones are cleared; a bad one is one line naming the flag. The
+/// range test needs no Lipschitz bound and gives the same hit mask.
+#[test]
+fn preview_bound_modes_and_their_errors() {
+    let png = tmp("preview-bound.png");
+    let mut masks = Vec::new();
+    for (bound, arith) in [
+        ("lipschitz", "ia"),
+        ("local", "ia"),
+        ("range", "ia"),
+        ("range", "aa"),
+    ] {
+        let out = tracer(&[
+            "preview",
+            "mitchell-gm",
+            "--headless",
+            "--size",
+            "24x24",
+            "--bound",
+            bound,
+            "--arith",
+            arith,
+            "--out",
+            png.to_str().unwrap(),
+        ]);
+        assert_eq!(out.status.code(), Some(0), "{out:?}");
+        assert!(String::from_utf8_lossy(&out.stdout).contains(&format!("bound {bound}")));
+        let img = image::open(&png).unwrap().to_rgb8();
+        let bg = tracer::render::shade::BACKGROUND;
+        masks.push(img.pixels().map(|p| p.0 != bg).collect::<Vec<bool>>());
+    }
+    assert!(
+        masks.iter().all(|m| m == &masks[0]),
+        "the bound modes' silhouettes differ"
+    );
+    assert_user_error(
+        &[
+            "preview",
+            "csg",
+            "--headless",
+            "--bound",
+            "cone",
+            "--out",
+            png.to_str().unwrap(),
+        ],
+        "--bound",
+    );
+    assert_user_error(
+        &[
+            "preview",
+            "csg",
+            "--headless",
+            "--bound",
+            "range",
+            "--arith",
+            "nope",
+            "--out",
+            png.to_str().unwrap(),
+        ],
+        "--arith",
+    );
+    assert_user_error(
+        &[
+            "preview",
+            "csg",
+            "--headless",
+            "--filter",
+            "gauss",
+            "--aa",
+            "2",
+            "--out",
+            png.to_str().unwrap(),
+        ],
+        "--filter",
+    );
+}
+
+/// A prime image size still refines progressively: several levels are reported.
+#[test]
+fn preview_at_a_prime_size_has_several_levels() {
+    let png = tmp("preview-prime.png");
+    let out = tracer(&[
+        "preview",
+        "mitchell-gm",
+        "--headless",
+        "--size",
+        "67x61",
+        "--out",
+        png.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("padded"), "{text}");
+    assert!(text.matches("complete:").count() >= 3, "{text}");
+    assert_eq!(image::open(&png).unwrap().to_rgb8().dimensions(), (67, 61));
+}
+
+/// `--roi` headless: the region's frames are written when it is set and when it is done.
+#[test]
+fn preview_roi_flag_writes_its_frames() {
+    let dir = tmp("roi-snaps");
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = tracer(&[
+        "preview",
+        "hypertexture-1",
+        "--headless",
+        "--size",
+        "64x32",
+        "--roi",
+        "10,5,30,20",
+        "--roi-level",
+        "2",
+        "--snapshots",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("roi set at level 2") && text.contains("roi done"),
+        "{text}"
+    );
+    for f in ["roi-set.png", "roi-done.png", "final.png"] {
+        assert!(dir.join(f).exists(), "{f}");
+    }
+    assert_user_error(
+        &[
+            "preview",
+            "csg",
+            "--headless",
+            "--size",
+            "16x16",
+            "--roi",
+            "0,0,16,3",
+            "--snapshots",
+            dir.to_str().unwrap(),
+        ],
+        "--roi",
+    );
+}
+
+/// `render --aa N` filters N x N rays per pixel into the requested size.
+#[test]
+fn render_aa_filters_to_the_requested_size() {
+    let png = tmp("render-aa.png");
+    let out = tracer(&[
+        "render",
+        "mitchell",
+        "--size",
+        "20x12",
+        "--aa",
+        "3",
+        "--filter",
+        "cubic",
+        "-q",
+        "--out",
+        png.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    assert_eq!(image::open(&png).unwrap().to_rgb8().dimensions(), (20, 12));
+    assert_user_error(
+        &[
+            "render",
+            "mitchell",
+            "--size",
+            "20x12",
+            "--aa",
+            "0",
+            "--out",
+            png.to_str().unwrap(),
+        ],
+        "--aa",
+    );
 }

@@ -220,7 +220,7 @@ pub fn markdown(r: &Report) -> String {
         .kinds
         .iter()
         .copied()
-        .filter(|k| paper::PAPER_COLUMNS.contains(&k.name()))
+        .filter(|k| crate::paper::PAPER_COLUMNS.contains(&k.name()))
         .collect();
     for k in &paper_kinds {
         let _ = write!(

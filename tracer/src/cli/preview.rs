@@ -3,14 +3,20 @@
 //! [`super::window`].
 
 use super::window;
+use crate::arith::ArithKind;
 use crate::lipschitz_bound::auto_lipschitz;
 use crate::models::Model;
-use crate::progressive::{write_png, ChildStart, Engine, Options};
-use std::path::PathBuf;
+use crate::progressive::SharedImage;
+use crate::progressive::{write_png, Bound, ChildStart, Engine, Options, Rect, Step};
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// Sub-boxes per axis of the automatic Lipschitz bound of a model that has none.
 pub const AUTO_LIPSCHITZ_SPLITS: usize = 16;
+
+fn arith_help() -> String {
+    format!("Arithmetic of --bound range: {}", ArithKind::names())
+}
 
 /// Arguments of `tracer preview`.
 #[derive(clap::Args, Debug, Clone)]
@@ -48,15 +54,28 @@ pub struct PreviewArgs {
     /// Overshooting factor of the terminal ray caster.
     #[arg(long, default_value_t = crate::search::lipschitz::DEFAULT_OVERSHOOT)]
     pub overshoot: f64,
-    /// Anti-aliasing: subdivide to 1/N of a pixel and box-filter (Appendix A with a box filter).
+    /// Anti-aliasing: subdivide samples to 1/N of a pixel and filter them into pixels
+    /// with --filter (Appendix A, eq. A.1).
     #[arg(long, default_value_t = 1)]
     pub aa: u32,
+    /// Anti-aliasing filter (with --aa above 1): a B-spline of degree 0 to 3: box, tent,
+    /// quadratic or cubic.
+    #[arg(long, default_value = "quadratic", allow_hyphen_values = true)]
+    pub filter: String,
     /// Start child cones as eq. (8) of the paper instead of the guaranteed radial rule.
     #[arg(long)]
     pub paper_child_start: bool,
-    /// Local Lipschitz bounds per cone and ray segment (past the paper).
-    #[arg(long)]
-    pub local: bool,
+    /// How cones and terminal rays are proved clear of the surface: `lipschitz` (the
+    /// paper's one global bound), `local` (a bound per cone and ray segment from the
+    /// range of the gradient over it), `auto` (local where the gradient's bounds over
+    /// 8^3 sub-boxes are mostly below half the global one, else lipschitz), or `range`
+    /// (each cone segment tested with the --arith range arithmetic over its frustum,
+    /// terminal rays by Algorithm 1: no Lipschitz bound needed).
+    #[arg(long, default_value = crate::progressive::DEFAULT_BOUND.name(), allow_hyphen_values = true)]
+    pub bound: String,
+    /// Arithmetic of `--bound range`.
+    #[arg(long, default_value = "revaa", help = arith_help())]
+    pub arith: String,
     /// No window: refine to completion (or Ctrl-C), printing each level transition.
     #[arg(long)]
     pub headless: bool,
@@ -66,6 +85,15 @@ pub struct PreviewArgs {
     /// Write the image here at completion, or when stopped early.
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// A region of interest X0,Y0,X1,Y1 (pixel corners, inclusive), refined first from
+    /// the start of level --roi-level on (Section 3.4; in the window, drag with the left
+    /// button instead). Headless with --snapshots, `roi-set.png` and `roi-done.png` are
+    /// written when it is set and when it is fully refined (the paper's Fig. 10).
+    #[arg(long, allow_hyphen_values = true)]
+    pub roi: Option<String>,
+    /// The level at whose start --roi is set.
+    #[arg(long, default_value_t = 0)]
+    pub roi_level: usize,
     /// Window frame rate.
     #[arg(long, default_value_t = 30)]
     pub fps: u32,
@@ -124,20 +152,41 @@ fn check_paths(args: &PreviewArgs) -> Result<(), String> {
     Ok(())
 }
 
-/// Builds the engine options for `args` and `model`.
+/// The `--bound` and `--arith` flags as a [`Bound`].
+pub fn parse_bound(bound: &str, arith: &str) -> Result<Bound, String> {
+    match bound.to_ascii_lowercase().as_str() {
+        "lipschitz" => Ok(Bound::Lipschitz),
+        "local" => Ok(Bound::Local),
+        "auto" => Ok(Bound::Auto),
+        "range" => Ok(Bound::Range(
+            arith.parse().map_err(|e| format!("--arith: {e}"))?,
+        )),
+        _ => Err(format!(
+            "--bound '{bound}': expected lipschitz, local, auto or range"
+        )),
+    }
+}
+
+/// Builds the engine options for `args` and `model`. A Lipschitz mode on a model whose
+/// gradient is unbounded on the domain (no `--lambda`, none of its own) falls back to
+/// the range test, which needs no bound, with a note on stderr.
 pub fn options_for(args: &PreviewArgs, model: &Model) -> Result<Options, String> {
-    let lambda = match (args.lambda, model.lipschitz) {
-        (Some(l), _) => l,
-        (None, Some(l)) => l,
-        (None, None) => {
+    let mut bound = parse_bound(&args.bound, &args.arith)?;
+    let lambda = match (bound, args.lambda, model.lipschitz) {
+        (_, Some(l), _) | (_, None, Some(l)) => l,
+        (Bound::Range(_), None, None) => f64::NAN,
+        (_, None, None) => {
             let l = auto_lipschitz(model, &model.domain, AUTO_LIPSCHITZ_SPLITS);
             if !l.is_finite() {
-                return Err(format!(
-                    "model '{}': its gradient is unbounded on the domain (a sqrt or ln \
-                     at 0, a division by 0), so no Lipschitz bound can be computed: pass \
-                     --lambda or a smaller --domain",
+                let kind: ArithKind = args.arith.parse().map_err(|e| format!("--arith: {e}"))?;
+                eprintln!(
+                    "note: model '{}': its gradient is unbounded on the domain (a sqrt or ln \
+                     at 0, a division by 0), so no Lipschitz bound exists there: using \
+                     --bound range --arith {kind} instead (or pass --lambda, or a smaller \
+                     --domain)",
                     model.name
-                ));
+                );
+                bound = Bound::Range(kind);
             }
             l
         }
@@ -146,11 +195,53 @@ pub fn options_for(args: &PreviewArgs, model: &Model) -> Result<Options, String>
     o.eps = args.eps;
     o.overshoot = args.overshoot;
     o.aa = args.aa;
-    o.local = args.local;
+    o.filter = args.filter.parse().map_err(|e| format!("--filter: {e}"))?;
+    o.bound = bound;
     if args.paper_child_start {
         o.child_start = ChildStart::Paper;
     }
     Ok(o)
+}
+
+/// Writes the image to `out` (`flag` names it in messages); when that fails (a full disk,
+/// a folder removed meanwhile) the computed image is not lost: it goes to a file in the
+/// temporary folder, and the error line says where.
+pub fn save_image(img: &SharedImage, out: &Path, flag: &str) -> Result<(), String> {
+    let Err(e) = write_png(img, out) else {
+        return Ok(());
+    };
+    let nanos = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.subsec_nanos());
+    let keep =
+        std::env::temp_dir().join(format!("tracer-preview-{}-{nanos}.png", std::process::id()));
+    match write_png(img, &keep) {
+        Ok(()) => Err(format!(
+            "{flag} '{}': {e}; the image is kept in {}",
+            out.display(),
+            keep.display()
+        )),
+        Err(e2) => Err(format!(
+            "{flag} '{}': {e}; keeping it in {} failed too: {e2}",
+            out.display(),
+            keep.display()
+        )),
+    }
+}
+
+/// The `--roi` flag as a rectangle of the `w x h` image.
+pub fn parse_roi(s: &str, w: u32, h: u32) -> Result<Rect, String> {
+    let v = super::parse_list("--roi", s, 4)?;
+    if v.iter().any(|x| x.fract() != 0.0 || *x < 0.0) {
+        return Err(format!(
+            "--roi '{s}': the corners must be whole pixel numbers"
+        ));
+    }
+    let (x0, y0, x1, y1) = (v[0] as u32, v[1] as u32, v[2] as u32, v[3] as u32);
+    if x0.max(x1) >= w || y0.max(y1) >= h {
+        return Err(format!("--roi '{s}': outside the {w}x{h} image"));
+    }
+    Ok(Rect::from_corners((x0, y0), (x1, y1)))
 }
 
 /// Runs `tracer preview`.
@@ -162,13 +253,18 @@ pub fn run_preview(args: &PreviewArgs) -> Result<(), String> {
     if let Some(s) = &args.ortho {
         model.view.ortho = Some(super::parse_ortho(s)?);
     }
+    let roi = args
+        .roi
+        .as_deref()
+        .map(|s| parse_roi(s, width, height))
+        .transpose()?;
     check_paths(args)?;
     let opts = options_for(args, &model)?;
     let engine = Engine::new(model.clone(), model.domain, model.view, width, height, opts)?;
     if args.headless {
-        run_headless(engine, args)
+        run_headless(engine, args, roi)
     } else {
-        window::run_window(engine, args)
+        window::run_window(engine, args, roi)
     }
 }
 
@@ -176,31 +272,42 @@ pub fn run_preview(args: &PreviewArgs) -> Result<(), String> {
 pub fn run_headless<S: crate::shape::Shape>(
     mut engine: Engine<S>,
     args: &PreviewArgs,
+    mut roi: Option<Rect>,
 ) -> Result<(), String> {
     let start = Instant::now();
     let plan = engine.plan().clone();
     crate::say!(
-        "plan: {}x{} top-level samples of {} px, splits {:?}, lambda {}",
+        "plan: {}x{} top-level samples of {} px{}, splits {:?}, bound {}, lambda {}",
         plan.u,
         plan.v,
         plan.size,
+        if plan.padded {
+            " (padded, cropped)"
+        } else {
+            ""
+        },
         plan.splits,
+        match engine.options().bound {
+            Bound::Range(k) => format!("range --arith {k}"),
+            b => b.name().to_string(),
+        },
         engine.options().lambda
     );
     // Wall time of refinement only: the snapshots' PNG writing is left out.
-    let mut io = std::time::Duration::ZERO;
-    let mut snap = |engine: &Engine<S>, level: usize| -> Result<(), String> {
+    let io = std::cell::Cell::new(std::time::Duration::ZERO);
+    let snap = |engine: &Engine<S>, level: usize| -> Result<(), String> {
         let s = engine.stats();
         crate::say!(
             "level {level} complete: {} iterations, {} evaluations, {:.3} s",
             s.iterations,
             s.evals,
-            (start.elapsed() - io).as_secs_f64()
+            (start.elapsed() - io.get()).as_secs_f64()
         );
         if let Some(dir) = &args.snapshots {
             let t = Instant::now();
-            write_png(&engine.image(), &dir.join(format!("level-{level:02}.png")))?;
-            io += t.elapsed();
+            let p = dir.join(format!("level-{level:02}.png"));
+            save_image(&engine.image(), &p, "--snapshots")?;
+            io.set(io.get() + t.elapsed());
         }
         Ok(())
     };
@@ -220,8 +327,35 @@ pub fn run_headless<S: crate::shape::Shape>(
                 snap(&engine, level)?;
                 level = l;
             }
+            if l >= args.roi_level {
+                if let Some(r) = roi.take() {
+                    engine.set_roi(r)?;
+                    let s = engine.stats();
+                    crate::say!(
+                        "roi set at level {l}: {} iterations, {:.3} s",
+                        s.iterations,
+                        (start.elapsed() - io.get()).as_secs_f64()
+                    );
+                    if let Some(dir) = &args.snapshots {
+                        save_image(&engine.image(), &dir.join("roi-set.png"), "--snapshots")?;
+                    }
+                }
+            }
         }
-        engine.step();
+        if let Step::Processed {
+            roi_finished: true, ..
+        } = engine.step()
+        {
+            let s = engine.stats();
+            crate::say!(
+                "roi done: {} iterations, {:.3} s",
+                s.iterations,
+                (start.elapsed() - io.get()).as_secs_f64()
+            );
+            if let Some(dir) = &args.snapshots {
+                save_image(&engine.image(), &dir.join("roi-done.png"), "--snapshots")?;
+            }
+        }
     }
     let s = engine.stats();
     if interrupted {
@@ -229,10 +363,10 @@ pub fn run_headless<S: crate::shape::Shape>(
             "interrupted: {} iterations, {} evaluations, {:.3} s; writing the image refined so far",
             s.iterations,
             s.evals,
-            (start.elapsed() - io).as_secs_f64()
+            (start.elapsed() - io.get()).as_secs_f64()
         );
         if let Some(out) = &args.out {
-            write_png(&engine.image(), out)?;
+            save_image(&engine.image(), out, "--out")?;
         }
         return Ok(());
     }
@@ -242,13 +376,16 @@ pub fn run_headless<S: crate::shape::Shape>(
         s.evals,
         s.shading_evals,
         s.range_evals,
-        (start.elapsed() - io).as_secs_f64()
+        (start.elapsed() - io.get()).as_secs_f64()
     );
+    // `--out` first: a failing snapshot folder must not cost the final image.
+    let out = args
+        .out
+        .as_ref()
+        .map_or(Ok(()), |out| save_image(&engine.image(), out, "--out"));
     if let Some(dir) = &args.snapshots {
-        write_png(&engine.image(), &dir.join("final.png"))?;
+        save_image(&engine.image(), &dir.join("final.png"), "--snapshots")?;
     }
-    if let Some(out) = &args.out {
-        write_png(&engine.image(), out)?;
-    }
+    out?;
     Ok(())
 }

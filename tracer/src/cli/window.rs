@@ -9,7 +9,7 @@
 //! few seconds, so even a force-quit (a second Ctrl-C) loses at most the last few
 //! seconds of refinement.
 
-use super::preview::PreviewArgs;
+use super::preview::{save_image, PreviewArgs};
 use crate::progressive::{write_png, Engine, Rect, SharedImage, Stats, Step};
 use crate::shape::Shape;
 use minifb::{Key, MouseButton, MouseMode, Window, WindowOptions};
@@ -65,11 +65,24 @@ fn refine<S: Shape>(
     (engine.stats(), false)
 }
 
+/// Writes `out` by way of a temporary file beside it, so a reader never sees half a PNG.
 fn write_atomically(img: &SharedImage, out: &Path) -> Result<(), String> {
     let ext = out.extension().and_then(|e| e.to_str()).unwrap_or("png");
     let tmp = out.with_extension(format!("partial.{ext}"));
     write_png(img, &tmp)?;
     std::fs::rename(&tmp, out).map_err(|e| format!("cannot write {}: {e}", out.display()))
+}
+
+/// A checkpoint of `--out` while the window is open: a failure is reported once on
+/// stderr and refinement goes on (the final write keeps the image somewhere, see
+/// [`save_image`]).
+fn checkpoint(img: &SharedImage, out: &Path, failed: &mut bool) {
+    if let Err(e) = write_atomically(img, out) {
+        if !*failed {
+            eprintln!("warning: --out checkpoint: {e}");
+        }
+        *failed = true;
+    }
 }
 
 /// Draws a one-pixel white outline of `r` into `buf`.
@@ -87,7 +100,12 @@ fn outline(buf: &mut [u32], w: u32, h: u32, r: Rect) {
 }
 
 /// Opens the window and runs the two threads until completion or stop.
-pub fn run_window<S: Shape + 'static>(engine: Engine<S>, args: &PreviewArgs) -> Result<(), String> {
+/// `initial_roi` (the `--roi` flag) is set at once.
+pub fn run_window<S: Shape + 'static>(
+    engine: Engine<S>,
+    args: &PreviewArgs,
+    initial_roi: Option<Rect>,
+) -> Result<(), String> {
     if args.fps == 0 || args.fps > 240 {
         return Err(format!("--fps must be in 1..=240, got {}", args.fps));
     }
@@ -115,11 +133,16 @@ pub fn run_window<S: Shape + 'static>(engine: Engine<S>, args: &PreviewArgs) -> 
         thread::spawn(move || refine(engine, stop, done, roi_active, rx))
     };
     let mut drag: Option<(u32, u32)> = None;
-    let mut roi: Option<Rect> = None;
+    let mut roi: Option<Rect> = initial_roi;
+    if let Some(r) = initial_roi {
+        roi_active.store(true, Ordering::Relaxed);
+        let _ = tx.send(Command::SetRoi(r));
+    }
     let mut right_was_down = false;
     let mut completed_written = false;
     let mut last_checkpoint = Instant::now();
     let mut frames = 0u64;
+    let mut checkpoint_failed = false;
     let mouse_px = |win: &Window| {
         win.get_mouse_pos(MouseMode::Clamp)
             .map(|(x, y)| ((x as u32).min(w - 1), (y as u32).min(h - 1)))
@@ -179,12 +202,12 @@ pub fn run_window<S: Shape + 'static>(engine: Engine<S>, args: &PreviewArgs) -> 
                 start.elapsed().as_secs_f64()
             ));
             if let Some(out) = &args.out {
-                write_atomically(&image, out)?;
+                checkpoint(&image, out, &mut checkpoint_failed);
             }
         } else if !completed_written && last_checkpoint.elapsed().as_secs_f64() >= CHECKPOINT_S {
             last_checkpoint = Instant::now();
             if let Some(out) = &args.out {
-                write_atomically(&image, out)?;
+                checkpoint(&image, out, &mut checkpoint_failed);
             }
         }
     };
@@ -192,9 +215,12 @@ pub fn run_window<S: Shape + 'static>(engine: Engine<S>, args: &PreviewArgs) -> 
     let (stats, complete) = worker
         .join()
         .map_err(|_| "the refinement thread panicked".to_string())?;
-    // Stopped early or complete: the latest image is written either way.
+    // Stopped early or complete: the latest image is written either way, and kept in
+    // the temporary folder when `--out` cannot be written.
     if let Some(out) = &args.out {
-        write_atomically(&image, out)?;
+        if write_atomically(&image, out).is_err() {
+            save_image(&image, out, "--out")?;
+        }
     }
     crate::say!(
         "{}: {} iterations, {} evaluations, {:.3} s, {} frames",

@@ -7,12 +7,16 @@
 
 use super::image::{pack, SharedImage};
 use super::plan::Plan;
+use crate::arith::ArithKind;
 use crate::camera::Camera;
+use crate::render::bspline_filter::{Filter, Kernel};
 use crate::render::shade::{self, Light, Material, BACKGROUND};
 use crate::search::cone::{trace_cone, trace_cone_local, ConeEnd};
+use crate::search::cone_range::trace_cone_range;
 use crate::search::lipschitz::{
     box_distance, clip_to_box, local_trace, overshoot_trace, Bounded, LocalCounts,
 };
+use crate::search::ray::{first_root, Precision, RayParams, RayStats, Start};
 use crate::shape::{Aabb, Shape, View};
 use glam::DVec3;
 use std::collections::VecDeque;
@@ -36,6 +40,77 @@ pub enum ChildStart {
     Radial,
 }
 
+/// The bound mode `tracer preview` uses unless told otherwise (measured in
+/// `bench-suite progressive`; see the README's previewer section): local bounds where
+/// they pay, the global bound elsewhere.
+pub const DEFAULT_BOUND: Bound = Bound::Auto;
+
+/// Sub-boxes per axis of [`Bound::Auto`]'s probe.
+pub const AUTO_PROBE_SPLITS: usize = 8;
+/// [`Bound::Auto`] takes local bounds when the median gradient bound over the probe's
+/// sub-boxes is below this share of the global bound.
+pub const AUTO_LOCAL_SHARE: f64 = 0.5;
+
+/// [`Bound::Auto`]'s choice: local bounds when the gradient bounds over
+/// [`AUTO_PROBE_SPLITS`]^3 sub-boxes of the domain are mostly well below the global bound
+/// `lambda` (their median below [`AUTO_LOCAL_SHARE`] of it), else the global bound: where
+/// the gradient is about as steep everywhere (noise), a segment's bound is no smaller
+/// and only costs its range evaluation (measured: 2x slower on the hypertexture).
+pub fn auto_bound<S: Shape + ?Sized>(shape: &S, domain: &Aabb, lambda: f64) -> Bound {
+    let n = AUTO_PROBE_SPLITS;
+    let size = (domain.max - domain.min) / n as f64;
+    let mut v = Vec::with_capacity(n * n * n);
+    for i in 0..n {
+        for j in 0..n {
+            for k in 0..n {
+                let lo = domain.min + size * DVec3::new(i as f64, j as f64, k as f64);
+                let b = Aabb::new(lo, lo + size);
+                v.push(crate::lipschitz_bound::gradient_bound_on_box(shape, &b));
+            }
+        }
+    }
+    v.sort_by(f64::total_cmp);
+    if v[v.len() / 2] < AUTO_LOCAL_SHARE * lambda {
+        Bound::Local
+    } else {
+        Bound::Lipschitz
+    }
+}
+
+/// How cones (and terminal rays) are proved clear of the surface.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Bound {
+    /// The paper's: one global Lipschitz bound [`Options::lambda`] (Fig. 3, and the
+    /// overshooting ray caster for terminal samples).
+    Lipschitz,
+    /// Local Lipschitz bounds: per cone segment ([`trace_cone_local`]) and per ray
+    /// segment for terminal rays ([`local_trace`]), each capped by the global bound.
+    Local,
+    /// No Lipschitz bound: each cone segment is tested with this range arithmetic over
+    /// the cone's frustum ([`trace_cone_range`]), terminal rays by Algorithm 1
+    /// ([`first_root`]) from the radius the cones cleared.
+    Range(ArithKind),
+    /// [`Bound::Local`] or [`Bound::Lipschitz`], chosen by [`auto_bound`] when the engine
+    /// is made.
+    Auto,
+}
+
+impl Bound {
+    /// Command-line name: `lipschitz`, `local`, or `range`.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Bound::Lipschitz => "lipschitz",
+            Bound::Local => "local",
+            Bound::Range(_) => "range",
+            Bound::Auto => "auto",
+        }
+    }
+    /// Whether this mode needs [`Options::lambda`].
+    pub fn needs_lambda(self) -> bool {
+        !matches!(self, Bound::Range(_))
+    }
+}
+
 /// Engine options.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Options {
@@ -45,25 +120,38 @@ pub struct Options {
     pub eps: f64,
     /// Overshooting factor of the terminal ray caster.
     pub overshoot: f64,
-    /// Anti-aliasing: samples are subdivided to `1/aa` of a pixel (box filter).
+    /// Anti-aliasing: samples are subdivided to `1/aa` of a pixel and filtered into
+    /// pixels with [`Options::filter`] (Appendix A).
     pub aa: u32,
+    /// The anti-aliasing filter of eq. (A.1) (used when `aa > 1`).
+    pub filter: Kernel,
     /// Child cone start rule.
     pub child_start: ChildStart,
-    /// Local Lipschitz bounds: per cone segment ([`trace_cone_local`]) and per ray
-    /// segment for terminal rays ([`local_trace`]).
-    pub local: bool,
+    /// How cones and terminal rays are proved clear.
+    pub bound: Bound,
 }
 
 impl Options {
-    /// Defaults for a bound `lambda`: precision `1e-4`, overshoot 1.46, no anti-aliasing.
+    /// Defaults for a bound `lambda`: precision `1e-4`, overshoot 1.46, no anti-aliasing,
+    /// the global bound only ([`Bound::Lipschitz`]).
     pub fn new(lambda: f64) -> Self {
         Options {
             lambda,
             eps: 1e-4,
             overshoot: crate::search::lipschitz::DEFAULT_OVERSHOOT,
             aa: 1,
+            filter: Kernel::default(),
             child_start: ChildStart::Radial,
-            local: false,
+            bound: Bound::Lipschitz,
+        }
+    }
+
+    /// Defaults for the range test with arithmetic `kind` ([`Bound::Range`]): no
+    /// Lipschitz bound needed.
+    pub fn range(kind: ArithKind) -> Self {
+        Options {
+            bound: Bound::Range(kind),
+            ..Options::new(f64::NAN)
         }
     }
 }
@@ -176,6 +264,7 @@ pub struct Engine<S: Shape> {
     depth: Vec<f64>,
     done: Vec<bool>,
     image: Arc<SharedImage>,
+    filter: Filter,
     stats: Stats,
     primary_level: usize,
 }
@@ -188,9 +277,9 @@ impl<S: Shape> Engine<S> {
         view: View,
         width: u32,
         height: u32,
-        opts: Options,
+        mut opts: Options,
     ) -> Result<Self, String> {
-        if !(opts.lambda.is_finite() && opts.lambda > 0.0) {
+        if opts.bound.needs_lambda() && !(opts.lambda.is_finite() && opts.lambda > 0.0) {
             return Err(format!(
                 "the Lipschitz bound must be positive and finite, got {}",
                 opts.lambda
@@ -209,6 +298,10 @@ impl<S: Shape> Engine<S> {
             return Err(format!("--aa must be in 1..=16, got {}", opts.aa));
         }
         crate::camera::check_size(width, height)?;
+        crate::shape::check_domain(&domain).map_err(|e| format!("domain box: {e}"))?;
+        if opts.bound == Bound::Auto {
+            opts.bound = auto_bound(&shape, &domain, opts.lambda);
+        }
         let (vw, vh) = (width * opts.aa, height * opts.aa);
         if vw > crate::camera::MAX_SIDE || vh > crate::camera::MAX_SIDE {
             return Err(format!(
@@ -218,9 +311,8 @@ impl<S: Shape> Engine<S> {
                 crate::camera::MAX_SIDE
             ));
         }
-        crate::shape::check_domain(&domain).map_err(|e| format!("domain box: {e}"))?;
         let cam = Camera::try_new(view, vw, vh)?;
-        let plan = Plan::new(vw, vh);
+        let plan = Plan::for_image(vw, vh);
         // Orthographic: every ray starts on the image plane and distances are depths
         // along `forward` (the domain's nearest and farthest).
         let ortho = cam.ortho.is_some();
@@ -299,6 +391,7 @@ impl<S: Shape> Engine<S> {
             depth: vec![f64::NAN; n],
             done: vec![false; n],
             image: Arc::new(SharedImage::new(width, height, BACKGROUND)),
+            filter: Filter::new(opts.filter, opts.aa),
             stats: Stats::default(),
             primary_level: 0,
         })
@@ -341,6 +434,12 @@ impl<S: Shape> Engine<S> {
     pub fn pixel_done(&self, i: u32, j: u32) -> bool {
         let a = self.opts.aa;
         (0..a).all(|dy| (0..a).all(|dx| self.done[((j * a + dy) * self.vw + i * a + dx) as usize]))
+    }
+
+    /// The sample's pixels inside the image, `[x, x1) x [y, y1)` (a padded plan's samples
+    /// overhang it).
+    fn span(&self, s: &Sample) -> (u32, u32) {
+        ((s.x + s.n).min(self.vw), (s.y + s.n).min(self.vh))
     }
 
     fn bounded(&self) -> Bounded<'_, S> {
@@ -447,16 +546,35 @@ impl<S: Shape> Engine<S> {
                     ChildStart::Paper => s.start / d.dot(s.parent_dir),
                 };
                 let (t0, eps, k) = (start.max(t_in), self.opts.eps, self.opts.overshoot);
-                if self.opts.local {
-                    let mut c = LocalCounts::default();
-                    let t = local_trace(&self.bounded(), o, d, t0, t_out, eps, k, &mut c);
-                    evals = c.evals;
-                    self.stats.range_evals += c.range_evals;
-                    t
-                } else {
-                    let c = overshoot_trace(&self.bounded(), o, d, t0, t_out, eps, k);
-                    evals = c.evals;
-                    c.t
+                match self.opts.bound {
+                    // `Auto` is resolved in `Engine::new`.
+                    Bound::Local | Bound::Auto => {
+                        let mut c = LocalCounts::default();
+                        let t = local_trace(&self.bounded(), o, d, t0, t_out, eps, k, &mut c);
+                        evals = c.evals;
+                        self.stats.range_evals += c.range_evals;
+                        t
+                    }
+                    Bound::Lipschitz => {
+                        let c = overshoot_trace(&self.bounded(), o, d, t0, t_out, eps, k);
+                        evals = c.evals;
+                        c.t
+                    }
+                    Bound::Range(kind) if t0 <= t_out => {
+                        let params = RayParams {
+                            precision: Precision { abs: eps, rel: 0.0 },
+                            pruning: true,
+                        };
+                        let mut st = RayStats::default();
+                        let start = Start::whole(t0, t_out);
+                        let t = crate::with_arith!(kind, A => first_root::<A, S>(
+                            &self.shape, o, d, start, &params, &mut st
+                        ));
+                        evals = st.point_evals;
+                        self.stats.range_evals += st.range_evals;
+                        t
+                    }
+                    Bound::Range(_) => None,
                 }
             }
         };
@@ -530,7 +648,15 @@ impl<S: Shape> Engine<S> {
         };
         let t_far = self.t_far + shift;
         let mut evals = 0;
-        let end = if self.opts.local {
+        let end = if let Bound::Range(kind) = self.opts.bound {
+            let mut ranges = 0;
+            let dom = self.bounded_domain;
+            let e = crate::with_arith!(kind, A => trace_cone_range::<A, S>(
+                &self.shape, &dom, o, d, tan_a, t0, self.t_far, &mut ranges
+            ));
+            self.stats.range_evals += ranges;
+            e
+        } else if self.opts.bound == Bound::Local {
             let mut ranges = 0;
             let e = trace_cone_local(
                 &self.bounded(),
@@ -554,8 +680,9 @@ impl<S: Shape> Engine<S> {
         self.stats.evals += evals;
         let (start, parent_dir, top) = match end {
             ConeEnd::Escaped => {
-                for j in s.y..s.y + s.n {
-                    for i in s.x..s.x + s.n {
+                let (x1, y1) = self.span(s);
+                for j in s.y..y1 {
+                    for i in s.x..x1 {
                         let k = (j * self.vw + i) as usize;
                         self.depth[k] = f64::INFINITY;
                         self.done[k] = true;
@@ -587,6 +714,9 @@ impl<S: Shape> Engine<S> {
                     parent_dir,
                     top,
                 };
+                if c.x >= self.vw || c.y >= self.vh {
+                    continue; // wholly outside the image (a padded plan)
+                }
                 match self.roi {
                     Some(r) if from_roi && r.scaled(self.opts.aa).intersects(&c) => {
                         self.roi_queue.push_back(c)
@@ -597,12 +727,13 @@ impl<S: Shape> Engine<S> {
         }
     }
 
-    /// Paints a sample with one colour, then refreshes the output pixels it covers
-    /// (box-filtered over the `aa x aa` virtual pixels of each).
+    /// Paints a sample with one colour, then refreshes the output pixels it touches
+    /// (with anti-aliasing, filtered by eq. (A.1) over the virtual pixels).
     fn paint(&mut self, s: &Sample, colour: [u8; 3]) {
+        let (x1, y1) = self.span(s);
         if self.painted_count < self.painted.len() {
-            for j in s.y..s.y + s.n {
-                for i in s.x..s.x + s.n {
+            for j in s.y..y1 {
+                for i in s.x..x1 {
                     let k = (j * self.vw + i) as usize;
                     if !self.painted[k] {
                         self.painted[k] = true;
@@ -614,33 +745,26 @@ impl<S: Shape> Engine<S> {
         let a = self.opts.aa;
         if a == 1 {
             let c = pack(colour);
-            for j in s.y..s.y + s.n {
-                for i in s.x..s.x + s.n {
+            for j in s.y..y1 {
+                for i in s.x..x1 {
                     self.vcolour[(j * self.vw + i) as usize] = colour;
                     self.image.set(i, j, c);
                 }
             }
             return;
         }
-        for j in s.y..s.y + s.n {
-            for i in s.x..s.x + s.n {
+        for j in s.y..y1 {
+            for i in s.x..x1 {
                 self.vcolour[(j * self.vw + i) as usize] = colour;
             }
         }
-        for oj in s.y / a..(s.y + s.n).div_ceil(a) {
-            for oi in s.x / a..(s.x + s.n).div_ceil(a) {
-                let mut acc = [0u32; 3];
-                for dy in 0..a {
-                    for dx in 0..a {
-                        let c = self.vcolour[((oj * a + dy) * self.vw + oi * a + dx) as usize];
-                        for k in 0..3 {
-                            acc[k] += c[k] as u32;
-                        }
-                    }
-                }
-                let nn = a * a;
-                self.image
-                    .set(oi, oj, pack(acc.map(|v| ((v + nn / 2) / nn) as u8)));
+        // Eq. (A.1) for every pixel whose filter support meets the sample.
+        let (i0, i1) = self.filter.affected(s.x, x1, self.width);
+        let (j0, j1) = self.filter.affected(s.y, y1, self.height);
+        for oj in j0..j1 {
+            for oi in i0..i1 {
+                let c = self.filter.pixel(&self.vcolour, self.vw, self.vh, oi, oj);
+                self.image.set(oi, oj, pack(c));
             }
         }
     }

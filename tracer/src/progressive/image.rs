@@ -17,7 +17,8 @@ pub struct SharedImage {
 }
 
 impl SharedImage {
-    pub(super) fn new(width: u32, height: u32, rgb: [u8; 3]) -> Self {
+    /// A `width x height` image filled with one colour.
+    pub fn new(width: u32, height: u32, rgb: [u8; 3]) -> Self {
         let c = pack(rgb);
         SharedImage {
             width,

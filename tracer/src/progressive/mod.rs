@@ -22,8 +22,10 @@ mod image;
 mod plan;
 mod raycast;
 
-pub use bench::{bench_table, BenchRow};
-pub use engine::{ChildStart, Engine, Options, Rect, Stats, Step};
+pub use bench::{bench_methods, bench_rounds, bench_table, previewer_method, BenchRow, Method};
+pub use engine::{
+    auto_bound, Bound, ChildStart, Engine, Options, Rect, Stats, Step, DEFAULT_BOUND,
+};
 pub use image::{write_png, SharedImage};
 pub use plan::{prime_factors_desc, Plan};
 pub use raycast::{raycast, Caster};

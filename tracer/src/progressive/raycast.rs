@@ -4,10 +4,12 @@
 //! must equal. It is a driver (a camera and a loop over pixels) over those searches, so
 //! it lives with the renderers rather than in `search/`.
 
+use crate::arith::ArithKind;
 use crate::camera::Camera;
 use crate::search::lipschitz::{
     clip_to_box, local_trace, overshoot_trace, sphere_trace, Bounded, LocalCounts,
 };
+use crate::search::ray::{first_root, Precision, RayParams, RayStats, Start};
 use crate::shape::{Aabb, Shape, View};
 
 /// Which conventional ray caster.
@@ -19,6 +21,10 @@ pub enum Caster {
     Overshoot(f64),
     /// [`local_trace`] with this overshooting factor (1 for plain steps).
     Local(f64),
+    /// Algorithm 1 ([`first_root`]) in this arithmetic, with `eps` as its absolute
+    /// precision and argument pruning (no Lipschitz bound used): the reference of the
+    /// previewer's range test.
+    Range(ArithKind),
 }
 
 /// A conventional Lipschitz ray casting of the whole image (one ray per pixel centre):
@@ -56,6 +62,22 @@ pub fn raycast<S: Shape + ?Sized>(
                             let t = local_trace(&b, o, d, t0, t1, eps, k, &mut c);
                             counts.range_evals += c.range_evals;
                             crate::search::lipschitz::Cast { t, evals: c.evals }
+                        }
+                        Caster::Range(kind) => {
+                            let params = RayParams {
+                                precision: Precision { abs: eps, rel: 0.0 },
+                                pruning: true,
+                            };
+                            let mut st = RayStats::default();
+                            let start = Start::whole(t0, t1);
+                            let t = crate::with_arith!(kind, A => first_root::<A, S>(
+                                shape, o, d, start, &params, &mut st
+                            ));
+                            counts.range_evals += st.range_evals;
+                            crate::search::lipschitz::Cast {
+                                t,
+                                evals: st.point_evals,
+                            }
                         }
                     };
                     counts.evals += c.evals;

@@ -79,7 +79,7 @@ pub fn trace_cone<S: Shape + ?Sized>(
 /// The axis-aligned box around the part of a cone (apex `o`, unit axis `d`, `tan α`)
 /// between axial distances `ta` and `tb`: the frustum is the convex hull of its two end
 /// discs, and a disc of radius `ρ` orthogonal to `d` spans `ρ sqrt(1 - d_k^2)` along axis k.
-fn frustum_box(o: DVec3, d: DVec3, tan_a: f64, ta: f64, tb: f64) -> Aabb {
+pub(crate) fn frustum_box(o: DVec3, d: DVec3, tan_a: f64, ta: f64, tb: f64) -> Aabb {
     let ext = DVec3::new(
         (1.0 - d.x * d.x).max(0.0).sqrt(),
         (1.0 - d.y * d.y).max(0.0).sqrt(),

@@ -3,9 +3,11 @@
 //! [`ray`] is the revised-affine paper's Algorithm 1 (range test, dichotomy, argument
 //! pruning), [`cull`] its Algorithm 2 (cell culling in frustum form), [`lipschitz`] the
 //! progressive-refinement paper's Lipschitz ray casters and automatic Lipschitz bounds,
-//! [`cone`] that paper's Lipschitz cone tracing (eqs. 3-6, Fig. 3).
+//! [`cone`] that paper's Lipschitz cone tracing (eqs. 3-6, Fig. 3), [`cone_range`] the
+//! same cones tested with a range arithmetic over their frustum instead.
 
 pub mod cone;
+pub mod cone_range;
 pub mod cull;
 pub mod lipschitz;
 pub mod ray;
