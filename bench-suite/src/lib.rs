@@ -17,4 +17,6 @@ pub mod paper;
 pub mod progressive;
 pub mod scaling;
 pub mod table1;
+#[cfg(feature = "gpu")]
+pub mod table2;
 pub mod tightness;

@@ -173,7 +173,7 @@ fn af_powi(a: AF, n: i32) -> AF {
     return r;
 }
 
-// sqrt(max(x, 0)) knowing x >= fl. Min-range with alpha <= 1 / (2 sqrt(hi)): g = sqrt - alpha x
+// sqrt(max(x, 0)) knowing x >= fl (a true bound of the value, not a clip at 0). Min-range with alpha <= 1 / (2 sqrt(hi)): g = sqrt - alpha x
 // increases on [0, hi]; below 0 g = -alpha x, at most -alpha lo.
 fn af_sqrt_floor(a: AF, fl: f32) -> AF {
     let b = af_bounds(a);
@@ -199,8 +199,9 @@ fn af_sqrt_floor(a: AF, fl: f32) -> AF {
     return af_apply(a, alpha, glo, ghi);
 }
 
+// No floor known: the part of the range below 0 counts (where g = -alpha x).
 fn af_sqrt(a: AF) -> AF {
-    return af_sqrt_floor(a, 0.0);
+    return af_sqrt_floor(a, -BIG);
 }
 
 // sqrt(a^2 + b^2), whose argument is at least mig(a)^2 + mig(b)^2.
