@@ -265,7 +265,12 @@ fn run(cli: Cli) -> Result<(), String> {
 }
 
 #[cfg(feature = "gpu")]
-fn table2_cmd(models: Option<String>, frames: usize, hd: bool, out: &PathBuf) -> Result<(), String> {
+fn table2_cmd(
+    models: Option<String>,
+    frames: usize,
+    hd: bool,
+    out: &PathBuf,
+) -> Result<(), String> {
     use bench_suite::table2;
     let models = match models {
         Some(m) => table1::parse_models(&m)?,
@@ -280,7 +285,10 @@ fn table2_cmd(models: Option<String>, frames: usize, hd: bool, out: &PathBuf) ->
         rows.extend(table2::run(&gpu, &models, (1920, 1080), frames)?);
     }
     let label = if gpu.is_software() {
-        format!("{} (software renderer: correctness only, not a GPU figure)", gpu.name())
+        format!(
+            "{} (software renderer: correctness only, not a GPU figure)",
+            gpu.name()
+        )
     } else {
         gpu.name()
     };

@@ -7,7 +7,7 @@
 //! run round-robin, one frame each per round, so a drifting clock affects them alike.
 
 use std::time::Duration;
-use tracer::gpu::tracer_gpu::{GpuArith, Gpu, Tracer};
+use tracer::gpu::tracer_gpu::{Gpu, GpuArith, Tracer};
 use tracer::models::PaperModel;
 use tracer::render::RenderOptions;
 
@@ -36,7 +36,12 @@ pub struct Row {
 }
 
 /// Measures `models` at `size` with `frames` timed frames per configuration.
-pub fn run(gpu: &Gpu, models: &[PaperModel], size: (u32, u32), frames: usize) -> Result<Vec<Row>, String> {
+pub fn run(
+    gpu: &Gpu,
+    models: &[PaperModel],
+    size: (u32, u32),
+    frames: usize,
+) -> Result<Vec<Row>, String> {
     let mut rows = Vec::new();
     for &m in models {
         let model = m.model();
@@ -74,7 +79,10 @@ pub fn run(gpu: &Gpu, models: &[PaperModel], size: (u32, u32), frames: usize) ->
             .iter()
             .map(|&a| {
                 let f = |cull: bool| {
-                    let c = configs.iter().find(|c| c.0 == a && c.1 == cull).expect("config");
+                    let c = configs
+                        .iter()
+                        .find(|c| c.0 == a && c.1 == cull)
+                        .expect("config");
                     let mut t = c.3.clone();
                     t.sort();
                     1.0 / t[t.len() / 2].as_secs_f64().max(1e-9)
@@ -109,7 +117,7 @@ pub fn markdown(device: &str, rows: &[Row]) -> String {
         let cells: Vec<String> = r
             .fps
             .iter()
-            .flat_map(|f| [format!("{:.1}", f[0]), format!("{:.1}", f[1])])
+            .flat_map(|f| [format!("{:.2}", f[0]), format!("{:.2}", f[1])])
             .collect();
         s.push_str(&format!(
             "| {} | {}x{} | {} | {paper} |\n",

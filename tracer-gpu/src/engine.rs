@@ -126,6 +126,19 @@ impl Gpu {
         Ok(words)
     }
 
+    /// Waits for the submitted work. wgpu's wait gives up after a few seconds, which a
+    /// software renderer's long frame exceeds: wait again, up to ten minutes in all.
+    fn wait(&self) -> Result<(), String> {
+        let start = Instant::now();
+        loop {
+            match self.device.poll(wgpu::PollType::Wait) {
+                Ok(_) => return Ok(()),
+                Err(wgpu::PollError::Timeout) if start.elapsed() < Duration::from_secs(600) => {}
+                Err(e) => return Err(format!("GPU work did not finish: {e}")),
+            }
+        }
+    }
+
     fn read_u32(&self, buf: &wgpu::Buffer, words: usize) -> Result<Vec<u32>, String> {
         let size = (words.max(1) * 4) as u64;
         let staging = self.device.create_buffer(&wgpu::BufferDescriptor {
@@ -142,9 +155,7 @@ impl Gpu {
         slice.map_async(wgpu::MapMode::Read, move |r| {
             let _ = tx.send(r);
         });
-        self.device
-            .poll(wgpu::PollType::Wait)
-            .map_err(|e| format!("GPU poll failed: {e}"))?;
+        self.wait()?;
         rx.recv()
             .map_err(|e| format!("GPU read-back lost: {e}"))?
             .map_err(|e| format!("GPU read-back failed: {e}"))?;
@@ -538,10 +549,7 @@ impl<'g> Tracer<'g> {
             pass.dispatch_workgroups(p.width.div_ceil(8), p.height.div_ceil(8), 1);
         }
         self.gpu.queue.submit([enc.finish()]);
-        self.gpu
-            .device
-            .poll(wgpu::PollType::Wait)
-            .map_err(|e| format!("GPU poll failed: {e}"))?;
+        self.gpu.wait()?;
         Ok(start.elapsed())
     }
 

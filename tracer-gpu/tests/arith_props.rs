@@ -9,8 +9,8 @@ use arith_core::testkit::mp::{Mp, Verdict};
 use tracer_gpu::{codegen, GpuArith};
 
 const OPS: &[&str] = &[
-    "add", "sub", "mul", "div", "min", "max", "hypot", "neg", "sqr", "sqrt", "recip", "exp",
-    "ln", "sin", "cos", "abs", "powi", "addc", "mulc",
+    "add", "sub", "mul", "div", "min", "max", "hypot", "neg", "sqr", "sqrt", "recip", "exp", "ln",
+    "sin", "cos", "abs", "powi", "addc", "mulc",
 ];
 const WORDS_IN: usize = 10;
 const WORDS_OUT: usize = 5;
@@ -29,7 +29,10 @@ fn kernel(arith: GpuArith) -> String {
         GpuArith::Ia => ("IA", "ia", "IA(f(b + 1u), f(b + 2u))"),
         _ => ("AF", "af", "AF(f(b + 1u), f(b + 2u), f(b + 3u))"),
     };
-    let make_y = make.replace("1u", "4u").replace("2u", "5u").replace("3u", "6u");
+    let make_y = make
+        .replace("1u", "4u")
+        .replace("2u", "5u")
+        .replace("3u", "6u");
     let mut cases = String::new();
     for (k, op) in OPS.iter().enumerate() {
         let call = match *op {
@@ -108,7 +111,11 @@ fn case(rng: &mut Rng, op: usize, arith: GpuArith) -> [u32; WORDS_IN] {
         let c = rng.val(lo, hi);
         let t = rng.val(lo - 4.0, hi - 1.0) * rng.unit() as f32;
         let e = (rng.val(lo - 12.0, hi - 3.0) * rng.unit() as f32).abs();
-        let (c, t, e) = if rng.next() % 4 == 0 { (c, 0.0, 0.0) } else { (c, t, e) };
+        let (c, t, e) = if rng.next() % 4 == 0 {
+            (c, 0.0, 0.0)
+        } else {
+            (c, t, e)
+        };
         match arith {
             // IA: [c, c + |t| + e]
             GpuArith::Ia => [c, ((c as f64) + (t.abs() as f64) + e as f64) as f32, 0.0],
@@ -216,7 +223,13 @@ fn wgsl_operations_enclose_the_exact_values() {
             .collect();
         let input: Vec<u32> = cases.iter().flatten().copied().collect();
         let out = gpu
-            .compute(&src, "main", &input, cases.len() * WORDS_OUT, cases.len() as u32)
+            .compute(
+                &src,
+                "main",
+                &input,
+                cases.len() * WORDS_OUT,
+                cases.len() as u32,
+            )
             .unwrap();
         for (ci, (c, o)) in cases.iter().zip(out.chunks_exact(WORDS_OUT)).enumerate() {
             let f = |w: u32| f32::from_bits(w) as f64;
@@ -226,7 +239,11 @@ fn wgsl_operations_enclose_the_exact_values() {
                 continue; // unbounded: encloses everything
             }
             let (n, k) = (c[7] as i32, f(c[8]));
-            let kc = if c[8] == c[9] { vec![k] } else { vec![k, f(c[9])] };
+            let kc = if c[8] == c[9] {
+                vec![k]
+            } else {
+                vec![k, f(c[9])]
+            };
             // Sample points of the operands.
             let samples: Vec<(f64, [f64; 2], [f64; 2])> = match arith {
                 GpuArith::Ia => {

@@ -180,9 +180,11 @@ fn check_gpu_flags(a: &RenderArgs, kind: ArithKind) -> Result<(), String> {
 
 #[cfg(not(feature = "gpu"))]
 fn check_gpu_flags(_: &RenderArgs, _: ArithKind) -> Result<(), String> {
-    Err("--device gpu: this tracer was built without the GPU renderer; build it with \
+    Err(
+        "--device gpu: this tracer was built without the GPU renderer; build it with \
          `cargo build --release -p tracer --features gpu`"
-        .into())
+            .into(),
+    )
 }
 
 #[cfg(feature = "gpu")]
