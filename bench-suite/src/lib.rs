@@ -17,11 +17,13 @@
 #![warn(missing_docs)]
 pub mod chart;
 pub mod counter;
-pub mod formulas;
 pub mod fig10;
+pub mod formulas;
 pub mod gm_study;
 pub mod paper;
 pub mod progressive;
 pub mod scaling;
 pub mod table1;
+#[cfg(feature = "gpu")]
+pub mod table2;
 pub mod tightness;

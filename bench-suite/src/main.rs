@@ -169,6 +169,21 @@ enum Cmd {
         #[arg(long, default_value = "docs")]
         out: PathBuf,
     },
+    /// The paper's Table 2 on the GPU: frames per second for IA, RAA* and RevAA without
+    /// and with culling, beside the paper's figures (needs the `gpu` feature).
+    Table2 {
+        /// Comma-separated model names (default: every Appendix A model).
+        #[arg(long)]
+        models: Option<String>,
+        /// Timed frames per configuration.
+        #[arg(long, default_value_t = 9)]
+        frames: usize,
+        /// Also measure at 1920x1080.
+        #[arg(long)]
+        hd: bool,
+        #[arg(long, default_value = "bench-out")]
+        out: PathBuf,
+    },
 }
 
 fn budget(secs: f64) -> Result<Duration, String> {
@@ -301,6 +316,12 @@ fn run(cli: Cli) -> Result<(), String> {
             tracer::out!("{md}");
             write_out(&out, "scaling.md", &md)
         }
+        Cmd::Table2 {
+            models,
+            frames,
+            hd,
+            out,
+        } => table2_cmd(models, frames, hd, &out),
         Cmd::Progressive {
             size,
             models,
@@ -387,6 +408,44 @@ fn run(cli: Cli) -> Result<(), String> {
             Ok(())
         }
     }
+}
+
+#[cfg(feature = "gpu")]
+fn table2_cmd(
+    models: Option<String>,
+    frames: usize,
+    hd: bool,
+    out: &PathBuf,
+) -> Result<(), String> {
+    use bench_suite::table2;
+    let models = match models {
+        Some(m) => table1::parse_models(&m)?,
+        None => PaperModel::ALL.to_vec(),
+    };
+    if frames == 0 {
+        return Err("--frames must be at least 1".into());
+    }
+    let gpu = tracer::gpu::tracer_gpu::Gpu::new()?;
+    let mut rows = table2::run(&gpu, &models, (512, 512), frames)?;
+    if hd {
+        rows.extend(table2::run(&gpu, &models, (1920, 1080), frames)?);
+    }
+    let label = if gpu.is_software() {
+        format!(
+            "{} (software renderer: correctness only, not a GPU figure)",
+            gpu.name()
+        )
+    } else {
+        gpu.name()
+    };
+    let md = table2::markdown(&label, &rows);
+    tracer::out!("{md}");
+    write_out(out, "table2.md", &md)
+}
+
+#[cfg(not(feature = "gpu"))]
+fn table2_cmd(_: Option<String>, _: usize, _: bool, _: &PathBuf) -> Result<(), String> {
+    Err("table2 needs the GPU renderer: cargo run --release -p bench-suite --features gpu -- table2".into())
 }
 
 fn main() -> ExitCode {

@@ -71,6 +71,8 @@ pub use glam;
 pub mod camera;
 #[cfg(feature = "cli")]
 pub mod cli;
+#[cfg(feature = "gpu")]
+pub mod gpu;
 pub mod interrupt;
 pub mod lipschitz_bound;
 pub mod models;

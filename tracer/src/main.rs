@@ -119,6 +119,11 @@ struct RenderArgs {
     /// quadratic or cubic.
     #[arg(long, default_value = "quadratic", allow_hyphen_values = true)]
     filter: String,
+    /// Where to trace: cpu, or gpu (wgpu compute shaders in f32 IA, RAA* or RevAA with
+    /// outward rounding; needs a build with the `gpu` feature and a Vulkan, Metal or
+    /// DX12 driver; no --shadows).
+    #[arg(long, default_value = "cpu", allow_hyphen_values = true)]
+    device: String,
 }
 
 /// The `--arith` help text, listing the arithmetics of the one list.
@@ -174,8 +179,62 @@ fn main() -> ExitCode {
     }
 }
 
+/// `--device gpu`'s refusals, before any work.
+#[cfg(feature = "gpu")]
+fn check_gpu_flags(a: &RenderArgs, kind: ArithKind) -> Result<(), String> {
+    tracer::gpu::gpu_arith(kind).map_err(|e| format!("--arith with --device gpu: {e}"))?;
+    if a.shadows {
+        return Err("--shadows: not supported with --device gpu".into());
+    }
+    Ok(())
+}
+
+#[cfg(not(feature = "gpu"))]
+fn check_gpu_flags(_: &RenderArgs, _: ArithKind) -> Result<(), String> {
+    Err(
+        "--device gpu: this tracer was built without the GPU renderer; build it with \
+         `cargo build --release -p tracer --features gpu`"
+            .into(),
+    )
+}
+
+#[cfg(feature = "gpu")]
+fn render_gpu(
+    kind: ArithKind,
+    model: &tracer::models::Model,
+    opts: &RenderOptions,
+) -> Result<tracer::render::RenderResult, String> {
+    if opts.view.ortho.is_some() {
+        // The GPU search casts rays from the eye only.
+        return Err(
+            "--device gpu: orthographic views (--ortho, a header's ortho=) are not \
+                    supported on the GPU yet"
+                .into(),
+        );
+    }
+    let gpu = tracer::gpu::tracer_gpu::Gpu::new().map_err(|e| format!("--device gpu: {e}"))?;
+    tracer::gpu::render(&gpu, kind, model, opts).map_err(|e| format!("--device gpu: {e}"))
+}
+
+#[cfg(not(feature = "gpu"))]
+fn render_gpu(
+    _: ArithKind,
+    _: &tracer::models::Model,
+    _: &RenderOptions,
+) -> Result<tracer::render::RenderResult, String> {
+    unreachable!("check_gpu_flags refuses --device gpu without the gpu feature")
+}
+
 fn cmd_render(a: &RenderArgs) -> Result<(), String> {
     let kind: ArithKind = a.arith.parse().map_err(|e| format!("--arith: {e}"))?;
+    let gpu = match a.device.as_str() {
+        "cpu" => false,
+        "gpu" => true,
+        s => return Err(format!("--device '{s}': expected cpu or gpu")),
+    };
+    if gpu {
+        check_gpu_flags(a, kind)?;
+    }
     let (width, height) = parse_size("--size", &a.size)?;
     let json = match a.stats.as_str() {
         "text" => false,
@@ -242,7 +301,11 @@ fn cmd_render(a: &RenderArgs) -> Result<(), String> {
     }
     // Ctrl-C stops starting tiles; the finished ones are written below.
     opts.cancel = Some(tracer::interrupt::cancel_flag());
-    let res = render_kind(kind, &model.shape, &opts)?;
+    let res = if gpu {
+        render_gpu(kind, &model, &opts)?
+    } else {
+        render_kind(kind, &model.shape, &opts)?
+    };
     let res = if a.aa > 1 {
         use tracer::render::bspline_filter::{downsample_render, Filter};
         downsample_render(&res, width, height, &Filter::new(kernel, a.aa))

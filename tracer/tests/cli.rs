@@ -951,6 +951,8 @@ fn listed_formulas_are_the_models() {
         }
     }
     assert_eq!(n, 11);
+}
+
 /// `--bound` picks how cones are cleared; a bad one is one line naming the flag. The
 /// range test needs no Lipschitz bound and gives the same hit mask.
 #[test]

@@ -1,0 +1,204 @@
+//! The GPU renderer (feature `gpu`): a model of the registry turned into a
+//! [`tracer_gpu::Program`] ([`record`]), its rays and culling cells prepared in `f64`
+//! exactly as the CPU renderer's ([`crate::camera::Camera::ray`],
+//! [`crate::search::ray::clip`]), searched on the device by [`tracer_gpu`] and shaded by
+//! [`crate::render::shade`], giving the same [`RenderResult`] as [`crate::render::render`].
+
+pub mod record;
+
+use crate::arith::ArithKind;
+use crate::camera::Camera;
+use crate::models::Model;
+use crate::render::shade::{self, Light};
+use crate::render::{RenderOptions, RenderResult, RenderStats};
+use crate::search::ray::clip;
+use crate::shape::check_domain;
+use glam::DVec3;
+use std::time::Instant;
+use tracer_gpu::{Bundle, Cells, Frame, Gpu, GpuArith, Program, Status, Tracer};
+
+pub use tracer_gpu;
+
+/// Side of the culling pass's screen cells, in pixels.
+pub const CELL: u32 = 8;
+
+/// The GPU arithmetic of `kind`; an error naming the ones the GPU has.
+pub fn gpu_arith(kind: ArithKind) -> Result<GpuArith, String> {
+    GpuArith::from_name(kind.name()).ok_or_else(|| {
+        format!(
+            "arithmetic '{}' has no GPU form (the GPU renders in ia, raa or revaa)",
+            kind.name()
+        )
+    })
+}
+
+/// The frame of `opts` for the GPU: each pixel's `f64` ray clipped to the domain, the
+/// precision, and with culling one bundle per `CELL x CELL` cell.
+pub fn frame(opts: &RenderOptions) -> Result<(Frame, Camera), String> {
+    let cam = Camera::try_new(opts.view, opts.width, opts.height)?;
+    if let Some(e) = opts.eps {
+        if !(e > 0.0 && e.is_finite()) {
+            return Err(format!("precision {e} must be positive and finite"));
+        }
+    }
+    let dom = opts.domain;
+    check_domain(&dom).map_err(|e| format!("domain box: {e}"))?;
+    let precision = opts.precision(&cam);
+    let scale = (dom.max - dom.min).length();
+    let mut rays = Vec::with_capacity((opts.width * opts.height) as usize);
+    for j in 0..opts.height {
+        for i in 0..opts.width {
+            let (o, d) = cam.ray(i, j);
+            let (s0, s1) = clip(o, d, &dom, 0.0).unwrap_or((1.0, 0.0));
+            rays.push(Bundle {
+                dir: d.to_array(),
+                dir_rad: [0.0; 3],
+                s0,
+                s1,
+            });
+        }
+    }
+    let cells = opts.culling.then(|| cells(&cam, opts));
+    Ok((
+        Frame {
+            width: opts.width,
+            height: opts.height,
+            eye: cam.eye.to_array(),
+            rays,
+            // f32 resolves about 2^-20 of the scene: a floor on the precision.
+            eps_abs: precision.abs.max(scale * 1e-6),
+            eps_rel: precision.rel,
+            normal_h: scale * 1e-4,
+            pruning: opts.pruning,
+            cells,
+        },
+        cam,
+    ))
+}
+
+/// The culling cells: the raw directions `forward + dx right + dy up` of a cell's
+/// pixels as a central direction and a radius (`dx`, `dy` are affine in the pixel
+/// coordinates, so the corners bound them), over the depths along `forward` of the
+/// domain's corners. `s` is then the depth along `forward` (the raw direction's
+/// `forward` component is 1), widened for the rounding of the set-up.
+fn cells(cam: &Camera, opts: &RenderOptions) -> Cells {
+    let dom = opts.domain;
+    let corners = (0..8).map(|k| {
+        DVec3::new(
+            if k & 1 == 0 { dom.min.x } else { dom.max.x },
+            if k & 2 == 0 { dom.min.y } else { dom.max.y },
+            if k & 4 == 0 { dom.min.z } else { dom.max.z },
+        )
+    });
+    let depths: Vec<f64> = corners.map(|c| (c - cam.eye).dot(cam.forward)).collect();
+    let lo = depths
+        .iter()
+        .copied()
+        .fold(f64::INFINITY, f64::min)
+        .max(0.0);
+    let hi = depths.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let (s0, s1) = (lo * (1.0 - 1e-9), hi * (1.0 + 1e-9) + 1e-300);
+    let cells_x = opts.width.div_ceil(CELL);
+    let rows = opts.height.div_ceil(CELL);
+    let mut bundles = Vec::with_capacity((cells_x * rows) as usize);
+    for cy in 0..rows {
+        for cx in 0..cells_x {
+            let (x0, y0) = ((cx * CELL) as f64, (cy * CELL) as f64);
+            let x1 = ((cx + 1) * CELL).min(opts.width) as f64;
+            let y1 = ((cy + 1) * CELL).min(opts.height) as f64;
+            let a = cam.raw_dir(x0, y0);
+            let b = cam.raw_dir(x1, y1);
+            let c = cam.raw_dir(x0, y1);
+            let d = cam.raw_dir(x1, y0);
+            let mid = (a + b) * 0.5;
+            let rad = [a, b, c, d]
+                .iter()
+                .map(|v| (*v - mid).abs())
+                .fold(DVec3::ZERO, DVec3::max);
+            // Rounding of the raw directions (a few ulps of their size) and of `mid`.
+            let slack = DVec3::splat(mid.abs().max_element() * 1e-12 + 1e-300);
+            bundles.push(Bundle {
+                dir: mid.to_array(),
+                dir_rad: (rad + slack).to_array(),
+                s0,
+                s1,
+            });
+        }
+    }
+    Cells {
+        cell: CELL,
+        cells_x,
+        bundles,
+    }
+}
+
+/// Renders `model` on `gpu` in `kind` with `opts` (as [`crate::render::render`]; the
+/// shadows, progress and deadline options are not used). `stats.unconfirmed` counts the
+/// hits without a proved sign change.
+pub fn render(
+    gpu: &Gpu,
+    kind: ArithKind,
+    model: &Model,
+    opts: &RenderOptions,
+) -> Result<RenderResult, String> {
+    let program = record::program_of(model)?;
+    render_program(gpu, kind, &program, opts)
+}
+
+/// [`render`] of a recorded program.
+pub fn render_program(
+    gpu: &Gpu,
+    kind: ArithKind,
+    program: &Program,
+    opts: &RenderOptions,
+) -> Result<RenderResult, String> {
+    let start = Instant::now();
+    let arith = gpu_arith(kind)?;
+    let (frame, cam) = frame(opts)?;
+    let tracer = Tracer::new(gpu, program, arith)?;
+    let out = tracer.render(&frame)?;
+    let light = Light::for_camera(&cam);
+    let n = (opts.width * opts.height) as usize;
+    let mut rgb = opts.background.repeat(n);
+    let mut depth = vec![f32::INFINITY; n];
+    let mut stats = RenderStats {
+        rays: n as u64,
+        tiles_total: 1,
+        tiles_done: 1,
+        cells_culled: out.cells_culled,
+        cell_evals: frame.cells.as_ref().map_or(0, |c| c.bundles.len() as u64),
+        ..Default::default()
+    };
+    for k in 0..n {
+        let st = out.status[k];
+        stats.range_evals += out.evals[k] as u64;
+        match st {
+            Status::Culled => stats.pixels_culled += 1,
+            Status::Miss => {}
+            Status::Hit | Status::Unconfirmed => {
+                stats.hits += 1;
+                stats.range_evals_hit += out.evals[k] as u64;
+                if st == Status::Unconfirmed {
+                    stats.unconfirmed += 1;
+                }
+                depth[k] = out.depth[k];
+                let nv = out.normal[k];
+                let nv = DVec3::new(nv[0] as f64, nv[1] as f64, nv[2] as f64);
+                let normal = (nv.length() > 0.5).then_some(nv);
+                let d = DVec3::from_array(frame.rays[k].dir);
+                let c = shade::shade(normal, d, &light, &opts.material, false);
+                rgb[k * 3..k * 3 + 3].copy_from_slice(&c);
+            }
+        }
+    }
+    let hit = depth.iter().map(|d| d.is_finite()).collect();
+    stats.wall = start.elapsed();
+    Ok(RenderResult {
+        width: opts.width,
+        height: opts.height,
+        rgb,
+        depth,
+        hit,
+        stats,
+    })
+}

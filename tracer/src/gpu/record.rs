@@ -1,0 +1,230 @@
+//! Models as GPU programs: a formula's tape converts operation by operation; a model
+//! written in generic Rust over [`Real`] is recorded by evaluating it once over
+//! [`Recorder`], a `Real` whose operations append to a [`Program`] instead of computing.
+//! The recording is the model's own code, so the GPU evaluates exactly the operations
+//! the CPU arithmetics do (R-functions' `hypot` included, which the affine forms bound
+//! with the floor of its argument).
+
+use crate::models::formula::{Op as TOp, Tape};
+use crate::models::{AnyShape, Model};
+use crate::shape::Shape;
+use arith_core::Real;
+use core::ops::{Add, Div, Mul, Neg, Sub};
+use std::cell::RefCell;
+use tracer_gpu::{Op, Program};
+
+thread_local! {
+    static PROGRAM: RefCell<Program> = RefCell::new(Program::default());
+}
+
+fn push(op: Op) -> Recorder {
+    Recorder(PROGRAM.with(|p| p.borrow_mut().push(op)))
+}
+
+/// A value being recorded: the register of the operation that computes it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Recorder(pub u32);
+
+/// Records `f` over the inputs `x`, `y`, `z` into a program (on this thread).
+pub fn record(f: impl FnOnce(Recorder, Recorder, Recorder) -> Recorder) -> Program {
+    PROGRAM.with(|p| *p.borrow_mut() = Program::default());
+    let (x, y, z) = (push(Op::X), push(Op::Y), push(Op::Z));
+    let out = f(x, y, z);
+    let mut p = PROGRAM.with(|p| std::mem::take(&mut *p.borrow_mut()));
+    if out.0 as usize + 1 != p.ops.len() {
+        // The result is an earlier value (an input, say): copy it to the end.
+        p.push(Op::AddC(out.0, 0.0));
+    }
+    p
+}
+
+/// The program of `model`: its tape converted, or its generic code recorded. Errors for
+/// models whose code looks at the type of its values (procedural noise), which no
+/// program can express.
+pub fn program_of(model: &Model) -> Result<Program, String> {
+    match &model.shape {
+        AnyShape::Expr(t) => Ok(from_tape(t)),
+        s if !s.packs() => Err(format!(
+            "model '{}' uses procedural noise, which the GPU renderer does not support",
+            model.name
+        )),
+        s => Ok(record(|x, y, z| s.eval(x, y, z))),
+    }
+}
+
+/// A formula's tape as a program (the R-functions expand to `a + b -+ hypot(a, b)`).
+pub fn from_tape(t: &Tape) -> Program {
+    let mut p = Program::default();
+    // Tape register k -> program register.
+    let mut reg: Vec<u32> = Vec::with_capacity(t.len());
+    for i in t.instructions() {
+        let a = reg.get(i.a as usize).copied().unwrap_or(0);
+        let b = reg.get(i.b as usize).copied().unwrap_or(0);
+        let r = match i.op {
+            TOp::X => p.push(Op::X),
+            TOp::Y => p.push(Op::Y),
+            TOp::Z => p.push(Op::Z),
+            TOp::Const => p.push(Op::Const(i.c)),
+            TOp::Neg => p.push(Op::Neg(a)),
+            TOp::Sqr => p.push(Op::Sqr(a)),
+            TOp::Powi => p.push(Op::Powi(a, i.n)),
+            TOp::Sqrt => p.push(Op::Sqrt(a)),
+            TOp::Exp => p.push(Op::Exp(a)),
+            TOp::Ln => p.push(Op::Ln(a)),
+            TOp::Sin => p.push(Op::Sin(a)),
+            TOp::Cos => p.push(Op::Cos(a)),
+            TOp::Abs => p.push(Op::Abs(a)),
+            TOp::AddC => p.push(Op::AddC(a, i.c)),
+            TOp::SubC => p.push(Op::AddC(a, -i.c)),
+            TOp::RSubC => p.push(Op::RSubC(a, i.c)),
+            TOp::MulC => p.push(Op::MulC(a, i.c)),
+            TOp::DivC => p.push(Op::DivC(a, i.c)),
+            TOp::RDivC => p.push(Op::RDivC(a, i.c)),
+            TOp::Add => p.push(Op::Add(a, b)),
+            TOp::Sub => p.push(Op::Sub(a, b)),
+            TOp::Mul => p.push(Op::Mul(a, b)),
+            TOp::Div => p.push(Op::Div(a, b)),
+            TOp::Min => p.push(Op::Min(a, b)),
+            TOp::Max => p.push(Op::Max(a, b)),
+            TOp::Intersect | TOp::Union | TOp::Subtract => {
+                let h = p.push(Op::Hypot(a, b));
+                let s = match i.op {
+                    TOp::Subtract => p.push(Op::Sub(a, b)),
+                    _ => p.push(Op::Add(a, b)),
+                };
+                match i.op {
+                    TOp::Union => p.push(Op::Add(s, h)),
+                    _ => p.push(Op::Sub(s, h)),
+                }
+            }
+        };
+        reg.push(r);
+    }
+    p
+}
+
+macro_rules! binop {
+    ($tr:ident, $m:ident, $op:ident, $opc:ident) => {
+        impl $tr for Recorder {
+            type Output = Recorder;
+            fn $m(self, rhs: Recorder) -> Recorder {
+                push(Op::$op(self.0, rhs.0))
+            }
+        }
+        impl $tr<f64> for Recorder {
+            type Output = Recorder;
+            fn $m(self, rhs: f64) -> Recorder {
+                push($opc(self.0, rhs))
+            }
+        }
+    };
+}
+
+#[allow(non_snake_case)]
+fn AddF(a: u32, c: f64) -> Op {
+    Op::AddC(a, c)
+}
+#[allow(non_snake_case)]
+fn SubF(a: u32, c: f64) -> Op {
+    Op::AddC(a, -c)
+}
+#[allow(non_snake_case)]
+fn MulF(a: u32, c: f64) -> Op {
+    Op::MulC(a, c)
+}
+#[allow(non_snake_case)]
+fn DivF(a: u32, c: f64) -> Op {
+    Op::DivC(a, c)
+}
+
+binop!(Add, add, Add, AddF);
+binop!(Sub, sub, Sub, SubF);
+binop!(Mul, mul, Mul, MulF);
+binop!(Div, div, Div, DivF);
+
+impl Neg for Recorder {
+    type Output = Recorder;
+    fn neg(self) -> Recorder {
+        push(Op::Neg(self.0))
+    }
+}
+
+arith_core::impl_f64_lhs_ops!(Recorder);
+
+impl Real for Recorder {
+    fn constant(c: f64) -> Self {
+        push(Op::Const(c))
+    }
+    fn sqr(&self) -> Self {
+        push(Op::Sqr(self.0))
+    }
+    fn powi(&self, n: i32) -> Self {
+        push(Op::Powi(self.0, n))
+    }
+    fn sqrt(&self) -> Self {
+        push(Op::Sqrt(self.0))
+    }
+    fn hypot(&self, other: &Self) -> Self {
+        push(Op::Hypot(self.0, other.0))
+    }
+    fn recip(&self) -> Self {
+        push(Op::Recip(self.0))
+    }
+    fn exp(&self) -> Self {
+        push(Op::Exp(self.0))
+    }
+    fn ln(&self) -> Self {
+        push(Op::Ln(self.0))
+    }
+    fn sin(&self) -> Self {
+        push(Op::Sin(self.0))
+    }
+    fn cos(&self) -> Self {
+        push(Op::Cos(self.0))
+    }
+    fn abs(&self) -> Self {
+        push(Op::Abs(self.0))
+    }
+    fn min(&self, other: &Self) -> Self {
+        push(Op::Min(self.0, other.0))
+    }
+    fn max(&self, other: &Self) -> Self {
+        push(Op::Max(self.0, other.0))
+    }
+    fn rsub(self, c: f64) -> Self {
+        push(Op::RSubC(self.0, c))
+    }
+    fn rdiv(self, c: f64) -> Self {
+        push(Op::RDivC(self.0, c))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A recording computes what the model computes, at points.
+    #[test]
+    fn recordings_match_the_models_at_points() {
+        for m in crate::models::all() {
+            let Ok(p) = program_of(&m) else {
+                assert!(!m.shape.packs(), "{} failed to record", m.name);
+                continue;
+            };
+            p.check().unwrap();
+            for &(x, y, z) in &[(0.3, -0.2, 0.1), (1.1, 0.7, -0.4), (-0.9, 0.05, 0.6)] {
+                let a = p.eval_f64(x, y, z);
+                let b = m.shape.eval(x, y, z);
+                assert!(
+                    (a - b).abs() <= 1e-9 * (1.0 + b.abs()) || (a.is_nan() && b.is_nan()),
+                    "{}: {a} vs {b}",
+                    m.name
+                );
+            }
+        }
+        let t = crate::models::formula::parse("(x^2 + y^2 - 1) & (z - x / 3) | 2 - y").unwrap();
+        let p = from_tape(&t);
+        let (a, b) = (p.eval_f64(0.2, 0.4, -0.3), t.eval(0.2, 0.4, -0.3));
+        assert!((a - b).abs() < 1e-12, "{a} vs {b}");
+    }
+}
