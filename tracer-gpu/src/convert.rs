@@ -47,7 +47,7 @@ pub const LIM: f64 = (1u64 << 60) as f64;
 /// (the operand is then the whole line).
 pub fn constant(c: f64) -> Option<(f32, f32)> {
     const TINY: f64 = 1.0 / (1u128 << 124) as f64;
-    if !(c.abs() < LIM) {
+    if c.is_nan() || c.abs() >= LIM {
         return None;
     }
     if c == 0.0 {

@@ -93,7 +93,7 @@ impl Rng {
             1 => (self.next() % 7) as f32 - 3.0,
             _ => {
                 let m = 2f64.powf(lo + (hi - lo) * self.unit());
-                (if self.next() % 2 == 0 { m } else { -m }) as f32
+                (if self.next() & 1 == 0 { m } else { -m }) as f32
             }
         }
     }
@@ -107,11 +107,11 @@ fn case(rng: &mut Rng, op: usize, arith: GpuArith) -> [u32; WORDS_IN] {
         "sin" | "cos" => (-4.0, 8.0),
         _ => (-30.0, 30.0),
     };
-    let mut form = |rng: &mut Rng| {
+    let form = |rng: &mut Rng| {
         let c = rng.val(lo, hi);
         let t = rng.val(lo - 4.0, hi - 1.0) * rng.unit() as f32;
         let e = (rng.val(lo - 12.0, hi - 3.0) * rng.unit() as f32).abs();
-        let (c, t, e) = if rng.next() % 4 == 0 {
+        let (c, t, e) = if rng.next() & 3 == 0 {
             (c, 0.0, 0.0)
         } else {
             (c, t, e)
@@ -126,7 +126,7 @@ fn case(rng: &mut Rng, op: usize, arith: GpuArith) -> [u32; WORDS_IN] {
     let y = form(rng);
     let n = (rng.next() % 9) as i32 - 4;
     let k = rng.val(-10.0, 10.0);
-    let (klo, khi) = if rng.next() % 2 == 0 {
+    let (klo, khi) = if rng.next() & 1 == 0 {
         (k, k)
     } else {
         (k, f32::from_bits(k.to_bits() + 3).max(k))

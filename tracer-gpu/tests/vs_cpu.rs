@@ -147,6 +147,7 @@ fn check<S: Shape>(
         look_at: DVec3::new(0.05, -0.03, 0.0),
         up: DVec3::Y,
         fov_deg: 40.0,
+        ortho: None,
     };
     let dom = Aabb::cube(1.5);
     let program = record(|x, y, z| shape.eval(x, y, z));

@@ -768,6 +768,7 @@ fn hf_file_formula_and_hand_written_model_agree() {
         look_at: DVec3::ZERO,
         up: DVec3::Y,
         fov_deg: 40.0,
+        ortho: None,
     };
     let mut o = RenderOptions::for_view(view, Aabb::cube(1.3), 48, 36);
     o.eps = Some(1e-6);

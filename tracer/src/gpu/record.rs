@@ -43,7 +43,7 @@ pub fn record(f: impl FnOnce(Recorder, Recorder, Recorder) -> Recorder) -> Progr
 /// program can express.
 pub fn program_of(model: &Model) -> Result<Program, String> {
     match &model.shape {
-        AnyShape::Expr(t) => Ok(from_tape(t)),
+        AnyShape::Expr(t) => from_tape(t),
         s if !s.packs() => Err(format!(
             "model '{}' uses procedural noise, which the GPU renderer does not support",
             model.name
@@ -53,7 +53,9 @@ pub fn program_of(model: &Model) -> Result<Program, String> {
 }
 
 /// A formula's tape as a program (the R-functions expand to `a + b -+ hypot(a, b)`).
-pub fn from_tape(t: &Tape) -> Program {
+/// Errors for the operations the GPU programs do not have yet: the blends and the
+/// conditionals of the formula language and HyperFun.
+pub fn from_tape(t: &Tape) -> Result<Program, String> {
     let mut p = Program::default();
     // Tape register k -> program register.
     let mut reg: Vec<u32> = Vec::with_capacity(t.len());
@@ -97,10 +99,16 @@ pub fn from_tape(t: &Tape) -> Program {
                     _ => p.push(Op::Sub(s, h)),
                 }
             }
+            TOp::BlendUnion | TOp::BlendIntersect | TOp::Gt0 | TOp::Ge0 | TOp::Select => {
+                return Err(format!(
+                    "the formula uses '{}', which the GPU renderer does not support yet",
+                    i.op.name()
+                ))
+            }
         };
         reg.push(r);
     }
-    p
+    Ok(p)
 }
 
 macro_rules! binop {
@@ -223,7 +231,7 @@ mod tests {
             }
         }
         let t = crate::models::formula::parse("(x^2 + y^2 - 1) & (z - x / 3) | 2 - y").unwrap();
-        let p = from_tape(&t);
+        let p = from_tape(&t).unwrap();
         let (a, b) = (p.eval_f64(0.2, 0.4, -0.3), t.eval(0.2, 0.4, -0.3));
         assert!((a - b).abs() < 1e-12, "{a} vs {b}");
     }
