@@ -26,7 +26,12 @@ fn mask(
 }
 
 fn check(k: ArithKind, size: (u32, u32), configs: &[(bool, bool)]) {
-    for m in PaperModel::ALL {
+    // Virtual Shikki (about 800 range evaluations per hit pixel) is left to the bench
+    // suite, whose Table 1 cross-checks its hit masks between arithmetics.
+    for m in PaperModel::ALL
+        .into_iter()
+        .filter(|&m| m != PaperModel::Shikki)
+    {
         let base = mask(m, k, size, false, false);
         assert!(base.iter().any(|&h| h), "{} shows nothing", m.name());
         for &(c, p) in configs {

@@ -827,9 +827,11 @@ mod tests {
                 false
             }
         }
+        // Virtual Shikki evaluates one form at a time anyway (its tape branches).
         let models = crate::models::PaperModel::ALL
-            .map(|m| m.model())
             .into_iter()
+            .filter(|&m| m != crate::models::PaperModel::Shikki)
+            .map(|m| m.model())
             .chain(crate::models::progressive::all());
         for m in models {
             let (w, h) = (40, 30);
