@@ -327,10 +327,12 @@ pub fn csg_blending_printed<R: Real>(x: R, y: R, z: R) -> R {
 /// Sphere with noise as the authors' code computes it (HyperFun's Gardner-series noise
 /// `hfNoiseG` with amplitude 3.8, frequency 1.5 and phase 1.1, as the public OpenCL
 /// transcription of their scenes has it): every factor has its own axis, and each
-/// inner sine is phase-shifted by the sine of the previous axis,
-/// `f = 81 - x^2 - y^2 - z^2 + (3.8 sin(1.5x) + 1.624 sin(1.111x + 1.1 sin(1.5z)))
-///    * (3.8 sin(1.5y) + 1.299 sin(1.111y + 1.1 sin(1.5x)))
-///    * (3.8 sin(1.5z) + 2.598 sin(1.111z + 1.1 sin(1.5y)))`,
+/// inner sine is phase-shifted by the sine of the previous axis:
+/// ```text
+/// f = 81 - x^2 - y^2 - z^2 + (3.8 sin(1.5x) + 1.624 sin(1.111x + 1.1 sin(1.5z)))
+///                          * (3.8 sin(1.5y) + 1.299 sin(1.111y + 1.1 sin(1.5x)))
+///                          * (3.8 sin(1.5z) + 2.598 sin(1.111z + 1.1 sin(1.5y)))
+/// ```
 /// with the printed constants (`1.624 = 0.5 * 3.8/1.17`, `1.111 = 1.5/1.35`, ...). Its
 /// operation count is the paper's, 36 / 11 / 5.
 pub fn sphere_noise<R: Real>(x: R, y: R, z: R) -> R {

@@ -355,7 +355,7 @@ impl<'a> Compiler<'a> {
             let cv = self.eval(k, c, env)?;
             let cv = self.truth(cv);
             match self.constant(&cv) {
-                Some(v) if v == 0.0 => return Ok(()),
+                Some(0.0) => return Ok(()),
                 Some(_) => self.block(k, body, env)?,
                 None => {
                     if open >= MAX_OPEN_ITERATIONS {
