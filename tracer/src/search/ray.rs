@@ -689,9 +689,11 @@ mod tests {
             seed ^= seed << 17;
             (seed >> 11) as f64 / (1u64 << 53) as f64
         };
+        // Virtual Shikki evaluates one form at a time anyway (its tape branches).
         let models = crate::models::PaperModel::ALL
-            .map(|m| m.model())
             .into_iter()
+            .filter(|&m| m != crate::models::PaperModel::Shikki)
+            .map(|m| m.model())
             .chain(crate::models::progressive::all());
         for m in models {
             let cam = crate::camera::Camera::try_new(m.view, 64, 64).unwrap();
@@ -703,7 +705,11 @@ mod tests {
                 pruning: true,
             };
             let mut jobs = Vec::new();
-            for _ in 0..23 {
+            // Rays until 16 meet the domain (the draws are shared between models).
+            for _ in 0..400 {
+                if jobs.len() == 16 {
+                    break;
+                }
                 let (o, d) = cam.ray_at(64.0 * rnd(), 64.0 * rnd());
                 let Some((t0, t1)) = clip(o, d, &m.domain, 0.0) else {
                     continue;
