@@ -905,7 +905,7 @@ fn model_files_stdin_and_formats() {
     assert_user_error(&["render", fs, "--format", "obj"], "--format");
     assert_user_error(
         &["render", fs, "--format", "hf"],
-        "notch.expr:2:1: expected a body name",
+        "notch.expr:1:1: unexpected character '#'",
     );
     let bad = tmp("bad.vm");
     std::fs::write(&bad, "a var-x\nb tan a\n").unwrap();
