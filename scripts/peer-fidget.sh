@@ -39,6 +39,7 @@ nice -n 10 cargo build --release -q -p tracer --bin tracer
 PEER=bench-suite/peers/fidget/target/release/fidget-peer
 TRACER=target/release/tracer
 mkdir -p "$OUT_DIR"
+[ -z "$DOC" ] || mkdir -p "$(dirname "$DOC")"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 now_ns() { date +%s%N; }
