@@ -11,6 +11,8 @@
 //! - [`gm_study`]: why our Mitchell counts differ from the paper's, one factor at a time.
 //! - [`fig10`]: that paper's Fig. 10, a landscape refined with a region of interest.
 //! - [`scaling`]: cost as the resolution doubles, with and without culling.
+//! - [`scenes`]: cost as the model grows (scenes of N balls), with and without region
+//!   specialisation.
 //! - [`rng`]: a small reproducible generator for sampling.
 
 #![forbid(unsafe_code)]
@@ -23,6 +25,7 @@ pub mod gm_study;
 pub mod paper;
 pub mod progressive;
 pub mod scaling;
+pub mod scenes;
 pub mod table1;
 #[cfg(feature = "gpu")]
 pub mod table2;

@@ -8,9 +8,10 @@
 //! bench-suite progressive [--size N] [--models a,b] [--layers L] [--rounds N]
 //!                         [--methods a,b] [--out DIR]
 //! bench-suite formulas [--formulas N] [--depth D] [--seed S] [--arith ...] [--out DIR]
+//! bench-suite scenes [--sizes 10,100,1000,10000] [--pixels N] [--rounds N] [--out DIR]
 //! ```
 
-use bench_suite::{fig10, formulas, gm_study, progressive, scaling, table1, tightness};
+use bench_suite::{fig10, formulas, gm_study, progressive, scaling, scenes, table1, tightness};
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -169,6 +170,30 @@ enum Cmd {
         #[arg(long, default_value = "docs")]
         out: PathBuf,
     },
+    /// Cost against model size: scenes of N balls (max and R-function unions) and the
+    /// Appendix A R-function models as tapes, with and without region specialisation.
+    Scenes {
+        /// Comma-separated numbers of balls.
+        #[arg(long, default_value = "10,100,1000,10000")]
+        sizes: String,
+        /// Image side of the scenes in pixels.
+        #[arg(long, default_value_t = 1024)]
+        pixels: u32,
+        /// Image side of the paper models in pixels.
+        #[arg(long, default_value_t = 320)]
+        paper_pixels: u32,
+        /// Arithmetic.
+        #[arg(long, default_value = "revaa")]
+        arith: String,
+        /// Interleaved rounds; the median is reported.
+        #[arg(long, default_value_t = 3)]
+        rounds: usize,
+        /// Per-render time budget in seconds.
+        #[arg(long, default_value_t = 300.0)]
+        budget: f64,
+        #[arg(long, default_value = "bench-out")]
+        out: PathBuf,
+    },
     /// The paper's Table 2 on the GPU: frames per second for IA, RAA* and RevAA without
     /// and with culling, beside the paper's figures (needs the `gpu` feature).
     Table2 {
@@ -322,6 +347,41 @@ fn run(cli: Cli) -> Result<(), String> {
             hd,
             out,
         } => table2_cmd(models, frames, hd, &out),
+        Cmd::Scenes {
+            sizes,
+            pixels,
+            paper_pixels,
+            arith,
+            rounds,
+            budget: b,
+            out,
+        } => {
+            let sizes = sizes
+                .split(',')
+                .map(|t| match t.trim().parse::<usize>() {
+                    Ok(n) if n > 0 => Ok(n),
+                    _ => Err(format!("--sizes: '{t}' is not a positive number of balls")),
+                })
+                .collect::<Result<Vec<_>, _>>()?;
+            if pixels == 0 || paper_pixels == 0 || rounds == 0 {
+                return Err("--pixels, --paper-pixels and --rounds must be positive".into());
+            }
+            let o = scenes::Options {
+                sizes,
+                pixels,
+                paper_pixels,
+                kind: arith.parse()?,
+                rounds,
+                budget: budget(b)?,
+                ..Default::default()
+            };
+            let pts = scenes::run(&o, |p| {
+                eprintln!("{}: {:.3} s off, {:.3} s on", p.name, p.secs[0], p.secs[1])
+            })?;
+            let md = scenes::markdown(&o, &pts);
+            tracer::out!("{md}");
+            write_out(&out, "scenes.md", &md)
+        }
         Cmd::Progressive {
             size,
             models,

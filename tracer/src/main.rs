@@ -98,6 +98,10 @@ struct RenderArgs {
     /// Disable argument pruning.
     #[arg(long)]
     no_pruning: bool,
+    /// Disable region specialisation (formula, .vm and HyperFun models: each culling
+    /// cell searches a tape shortened for its region).
+    #[arg(long)]
+    no_specialise: bool,
     /// Trace shadow rays towards the light.
     #[arg(long)]
     shadows: bool,
@@ -295,6 +299,7 @@ fn cmd_render(a: &RenderArgs) -> Result<(), String> {
     opts.eps = eps;
     opts.culling = !a.no_culling;
     opts.pruning = !a.no_pruning;
+    opts.specialise = !a.no_specialise;
     opts.shadows = a.shadows;
     if !a.quiet {
         opts.progress = Some(std::sync::Arc::new(tracer::cli::Bar::new()));

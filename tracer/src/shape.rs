@@ -5,7 +5,7 @@
 //!
 //! FRep sign convention: `f >= 0` inside, `f = 0` on the surface.
 
-use arith_core::Real;
+use arith_core::{Range, Real};
 use glam::DVec3;
 
 /// A defining function `f(x, y, z)`, evaluable at points (`f64`), over every
@@ -21,6 +21,34 @@ pub trait Shape: Send + Sync {
     /// false; the tracer then evaluates its forms one at a time.
     fn packs(&self) -> bool {
         true
+    }
+
+    /// Whether [`Shape::specialise`] can ever return a shape (callers skip the range
+    /// evaluation it needs otherwise). False unless the shape overrides it.
+    fn specialises(&self) -> bool {
+        false
+    }
+
+    /// The number of instructions one evaluation runs, for a shape that is a tape
+    /// (counted in [`crate::render::RenderStats::range_ops`]); `None` otherwise.
+    fn tape_len(&self) -> Option<usize> {
+        None
+    }
+
+    /// A shape for the union of the regions that the ranges `[x, y, z]` of `regions`
+    /// enclose that has, at every point there, the same sign as this one (so the same
+    /// zero set and first roots) and is cheaper to evaluate; `None` where there is none
+    /// (the default). Several small regions give a tighter account of their union than
+    /// one range over all of it. Its values
+    /// are not this shape's, and it means nothing outside the region: callers use it
+    /// for range tests and root finding inside the region only, and shade with the
+    /// whole shape. Formula tapes implement it ([`crate::models::formula::Tape::specialise`]).
+    fn specialise<R: Range>(&self, regions: &[[R; 3]]) -> Option<Self>
+    where
+        Self: Sized,
+    {
+        let _ = regions;
+        None
     }
 }
 

@@ -63,6 +63,24 @@ impl Shape for AnyShape {
             AnyShape::Expr(t) => t.packs(),
         }
     }
+
+    fn specialises(&self) -> bool {
+        matches!(self, AnyShape::Expr(t) if t.specialises())
+    }
+
+    fn tape_len(&self) -> Option<usize> {
+        match self {
+            AnyShape::Expr(t) => Some(t.len()),
+            _ => None,
+        }
+    }
+
+    fn specialise<R: arith_core::Range>(&self, regions: &[[R; 3]]) -> Option<Self> {
+        match self {
+            AnyShape::Expr(t) => t.specialise(regions).map(AnyShape::Expr),
+            _ => None,
+        }
+    }
 }
 
 /// A shape with everything needed to render it without further flags.

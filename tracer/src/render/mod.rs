@@ -53,6 +53,10 @@ pub struct RenderOptions {
     pub culling: bool,
     /// Argument pruning in Algorithm 1.
     pub pruning: bool,
+    /// Region specialisation ([`Shape::specialise`]): each cell culling keeps searches,
+    /// and hands its rays, the shape specialised to its region. Only with `culling`;
+    /// no effect on shapes that do not specialise (the built-in models).
+    pub specialise: bool,
     /// Shadow rays towards the light.
     pub shadows: bool,
     /// Surface reflectance.
@@ -85,6 +89,7 @@ impl RenderOptions {
             eps: None,
             culling: true,
             pruning: true,
+            specialise: true,
             shadows: false,
             material: Material::default(),
             background: shade::BACKGROUND,
@@ -120,8 +125,12 @@ pub struct RenderStats {
     pub range_evals: u64,
     /// Range evaluations along primary rays of pixels that hit.
     pub range_evals_hit: u64,
-    /// Range evaluations of culling cells.
+    /// Range evaluations of culling cells (narrowing and specialisation).
     pub cell_evals: u64,
+    /// Instructions run by all range evaluations, on rays and cells, for shapes that
+    /// are tapes ([`Shape::tape_len`]; 0 otherwise): with [`Self::range_evals`] and
+    /// [`Self::cell_evals`], the mean tape length that specialisation brings down.
+    pub range_ops: u64,
     /// Point evaluations (normals).
     pub point_evals: u64,
     /// Cells proved empty by culling.
@@ -149,6 +158,17 @@ pub struct RenderStats {
 }
 
 impl RenderStats {
+    /// Mean tape length of a range evaluation (rays and cells; 0 for shapes that are not
+    /// tapes).
+    pub fn mean_tape_len(&self) -> f64 {
+        let evals = self.range_evals + self.cell_evals;
+        if evals == 0 {
+            0.0
+        } else {
+            self.range_ops as f64 / evals as f64
+        }
+    }
+
     /// Mean number of range evaluations per hit pixel (primary rays).
     pub fn mean_evals_per_hit(&self) -> f64 {
         if self.hits == 0 {
@@ -185,7 +205,11 @@ impl std::fmt::Display for RenderStats {
         )?;
         writeln!(f, "hit pixels:           {}", self.hits)?;
         writeln!(f, "unconfirmed hits:     {}", self.unconfirmed)?;
-        write!(f, "range evals per hit:  {:.2}", self.mean_evals_per_hit())
+        write!(f, "range evals per hit:  {:.2}", self.mean_evals_per_hit())?;
+        if self.range_ops > 0 {
+            write!(f, "\nmean tape length:     {:.1}", self.mean_tape_len())?;
+        }
+        Ok(())
     }
 }
 
@@ -214,7 +238,7 @@ struct TileOut {
 
 /// Renders `shape` in the arithmetic `A`. Errors, before allocating anything, on a
 /// degenerate view, size ([`crate::camera::check_size`]), precision or domain.
-pub fn render<A: Arithmetic, S: Shape + ?Sized>(
+pub fn render<A: Arithmetic, S: Shape>(
     shape: &S,
     opts: &RenderOptions,
 ) -> Result<RenderResult, String> {
@@ -233,7 +257,7 @@ pub fn render<A: Arithmetic, S: Shape + ?Sized>(
         pruning: opts.pruning,
     };
     let light = Light::for_camera(&cam);
-    let culler = Culler::new(&cam, &dom);
+    let culler = Culler::new(&cam, &dom).specialising(opts.specialise);
     let scale = (dom.max - dom.min).length();
     let tile = opts.tile.max(1);
     let mut tiles = Vec::new();
@@ -312,6 +336,7 @@ pub fn render<A: Arithmetic, S: Shape + ?Sized>(
         stats.range_evals += s.range_evals;
         stats.range_evals_hit += s.range_evals_hit;
         stats.cell_evals += s.cell_evals;
+        stats.range_ops += s.range_ops;
         stats.point_evals += s.point_evals;
         stats.cells_culled += s.cells_culled;
         stats.pixels_culled += s.pixels_culled;
@@ -333,7 +358,7 @@ pub fn render<A: Arithmetic, S: Shape + ?Sized>(
 }
 
 /// [`render`] with the arithmetic chosen at run time.
-pub fn render_kind<S: Shape + ?Sized>(
+pub fn render_kind<S: Shape>(
     kind: ArithKind,
     shape: &S,
     opts: &RenderOptions,
@@ -342,7 +367,7 @@ pub fn render_kind<S: Shape + ?Sized>(
 }
 
 #[allow(clippy::too_many_arguments)]
-fn render_tile<A: Arithmetic, S: Shape + ?Sized>(
+fn render_tile<A: Arithmetic, S: Shape>(
     shape: &S,
     opts: &RenderOptions,
     cam: &Camera,
@@ -360,18 +385,35 @@ fn render_tile<A: Arithmetic, S: Shape + ?Sized>(
     let mut st = RenderStats::default();
     // Rays are collected first (pixel, culling's depths), set up four at a time
     // ([`Camera::rays4`]), then searched four at a time ([`first_roots`]).
-    let mut pending: Vec<(u32, u32, Start)> = Vec::with_capacity(n);
-    let mut trace = |i: u32, j: u32, depths: Start| pending.push((i, j, depths));
+    // Each ray's shape: 0 the whole one, `k` the cell's specialised `locals[k - 1]`
+    // (rays come cell by cell, so a new one is pushed only when the cell's changes).
+    let mut pending: Vec<(u32, u32, Start, u32)> = Vec::with_capacity(n);
+    let mut locals: Vec<Arc<S>> = Vec::new();
+    let mut trace = |i: u32, j: u32, depths: Start, local: Option<&Arc<S>>| {
+        let k = match local {
+            None => 0,
+            Some(l) => {
+                if !locals.last().is_some_and(|last| Arc::ptr_eq(last, l)) {
+                    locals.push(l.clone());
+                }
+                locals.len() as u32
+            }
+        };
+        pending.push((i, j, depths, k));
+    };
     let mut cs = CullStats::default();
     if opts.culling {
         culler.traverse::<A, S, _>(shape, rect, &mut cs, &mut trace);
     } else {
         for j in j0..j1 {
             for i in i0..i1 {
-                trace(i, j, Start::whole(f64::NEG_INFINITY, f64::INFINITY));
+                trace(i, j, Start::whole(f64::NEG_INFINITY, f64::INFINITY), None);
             }
         }
     }
+    let shapes: Vec<&S> = std::iter::once(shape)
+        .chain(locals.iter().map(|l| &**l))
+        .collect();
     st.rays += pending.len() as u64;
     let mut jobs: Vec<RayJob> = Vec::with_capacity(pending.len());
     let mut pixel_of: Vec<usize> = Vec::with_capacity(pending.len());
@@ -380,16 +422,23 @@ fn render_tile<A: Arithmetic, S: Shape + ?Sized>(
         let set = cam.rays4(core::array::from_fn(|l| {
             (chunk[l.min(last)].0, chunk[l.min(last)].1)
         }));
-        for (&(i, j, depths), &(d, inv, c, ic)) in chunk.iter().zip(&set) {
+        for (&(i, j, depths, local), &(d, inv, c, ic)) in chunk.iter().zip(&set) {
             let o = cam.origin_at(i as f64 + 0.5, j as f64 + 0.5);
-            if let Some(start) = start_of(o, d, inv, c, ic, depths, &opts.domain) {
-                jobs.push(RayJob { o, d, start });
+            if let Some((start, windowed)) = start_of(o, d, inv, c, ic, depths, &opts.domain) {
+                // A specialised shape holds only in its cell's depth window.
+                let shape = if windowed { local } else { 0 };
+                jobs.push(RayJob { o, d, start, shape });
                 pixel_of.push((j - j0) as usize * tw + (i - i0) as usize);
             }
         }
     }
-    first_roots::<A, S>(shape, params, &jobs, |ray, hit, rs| {
+    let lens: Vec<u64> = shapes
+        .iter()
+        .map(|s| s.tape_len().unwrap_or(0) as u64)
+        .collect();
+    first_roots::<A, S>(&shapes, params, &jobs, |ray, hit, rs| {
         st.range_evals += rs.range_evals;
+        st.range_ops += rs.range_evals * lens[jobs[ray].shape as usize];
         st.pruned_empty += rs.pruned_empty;
         st.point_evals += rs.point_evals;
         let Some(t) = hit else {
@@ -413,7 +462,8 @@ fn render_tile<A: Arithmetic, S: Shape + ?Sized>(
         let c = shade::shade(n, d, light, &opts.material, in_shadow);
         rgb[k * 3..k * 3 + 3].copy_from_slice(&c);
     });
-    st.cell_evals = cs.cells_tested;
+    st.cell_evals = cs.cells_tested + cs.cells_specialised;
+    st.range_ops += cs.cell_ops;
     st.cells_culled = cs.cells_culled;
     st.pixels_culled = cs.pixels_culled;
     TileOut {
@@ -425,7 +475,8 @@ fn render_tile<A: Arithmetic, S: Shape + ?Sized>(
 
 /// Where to search the ray `o + t d` (`inv = d.recip()`, `c = d . forward`,
 /// `ic = 1 / c`): its piece inside the domain, narrowed to what culling left of it
-/// (`depths`, in depth along `forward`). `None` when nothing is left.
+/// (`depths`, in depth along `forward`), and whether it was (else it is the whole
+/// piece in the domain). `None` when nothing is left.
 #[allow(clippy::too_many_arguments)]
 fn start_of(
     o: DVec3,
@@ -435,7 +486,7 @@ fn start_of(
     ic: f64,
     depths: Start,
     domain: &Aabb,
-) -> Option<Start> {
+) -> Option<(Start, bool)> {
     let (t0, t1) = clip_with(o, d, inv, domain, 0.0)?;
     // Culling proved the ray root-free outside the depths `[s0, s1]` and inside
     // `(split, resume)` (margin included); depth is `t (d . forward)`. Widened (the
@@ -447,7 +498,8 @@ fn start_of(
         step,
         t1: s1,
     } = depths;
-    let (t0, t1, split, resume, step) = if c > 0.5 && s0.is_finite() && s1.is_finite() {
+    let windowed = c > 0.5 && s0.is_finite() && s1.is_finite();
+    let (t0, t1, split, resume, step) = if windowed {
         let (a, b) = (s0 * ic, s1 * ic);
         let m = (a.abs() + b.abs()) * 1e-12;
         let split = split * ic;
@@ -459,18 +511,21 @@ fn start_of(
     if t0 > t1 {
         return None;
     }
-    Some(Start {
-        t0,
-        split,
-        resume,
-        step,
-        t1,
-    })
+    Some((
+        Start {
+            t0,
+            split,
+            resume,
+            step,
+            t1,
+        },
+        windowed,
+    ))
 }
 
 /// Whether the segment from just off the surface at `p` towards the light holds a root.
 #[allow(clippy::too_many_arguments)]
-fn shadowed<A: Arithmetic, S: Shape + ?Sized>(
+fn shadowed<A: Arithmetic, S: Shape>(
     shape: &S,
     p: DVec3,
     n: Option<DVec3>,
@@ -505,6 +560,7 @@ fn shadowed<A: Arithmetic, S: Shape + ?Sized>(
     };
     let hit = first_root::<A, S>(shape, start, l, Start::whole(t0, t1), &sp, &mut rs).is_some();
     st.range_evals += rs.range_evals;
+    st.range_ops += rs.range_evals * shape.tape_len().unwrap_or(0) as u64;
     st.point_evals += rs.point_evals;
     hit
 }

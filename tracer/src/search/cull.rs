@@ -20,6 +20,7 @@ use arith_core::pack::{Pack, LANES};
 use arith_core::round::{up_finite, ETA, U};
 use arith_core::{Arithmetic, Range};
 use glam::DVec3;
+use std::sync::Arc;
 
 /// Counters of the culling pass.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -30,6 +31,11 @@ pub struct CullStats {
     pub cells_culled: u64,
     /// Pixels inside dropped cells (no ray traced for them).
     pub pixels_culled: u64,
+    /// Cells whose region was evaluated to specialise the shape ([`Shape::specialise`]).
+    pub cells_specialised: u64,
+    /// Instructions run by the cells' range evaluations ([`Shape::tape_len`]; 0 for
+    /// shapes that are not tapes).
+    pub cell_ops: u64,
 }
 
 impl std::ops::AddAssign for CullStats {
@@ -37,6 +43,8 @@ impl std::ops::AddAssign for CullStats {
         self.cells_tested += o.cells_tested;
         self.cells_culled += o.cells_culled;
         self.pixels_culled += o.pixels_culled;
+        self.cells_specialised += o.cells_specialised;
+        self.cell_ops += o.cell_ops;
     }
 }
 
@@ -139,6 +147,8 @@ pub struct Culler {
     s_range: (f64, f64),
     /// A pixel's angular size (a cell's width per unit depth, for beam narrowing).
     pixel_angle: f64,
+    /// Whether kept cells specialise the shape to their region.
+    specialise: bool,
 }
 
 /// Most box evaluations of one beam narrowing pass (each direction); past it the
@@ -146,6 +156,10 @@ pub struct Culler {
 const NARROW_BUDGET: u32 = 48;
 /// Depth of the narrowing stack.
 const NARROW_STACK: usize = 48;
+/// Slices of depth a cell's region is specialised over: the hull of their ranges is far
+/// tighter than one range over the whole depth (a quadratic's affine error grows with
+/// the square of the slice's depth).
+const SPECIALISE_SLICES: usize = 8;
 
 impl Culler {
     /// A culler for the camera's view of `domain`.
@@ -180,7 +194,16 @@ impl Culler {
             margin,
             s_range: (s0, s1),
             pixel_angle,
+            specialise: true,
         }
+    }
+
+    /// This culler with region specialisation on or off (on by default): every cell
+    /// that is kept specialises its shape ([`Shape::specialise`]) to the region its
+    /// children and rays search, and they search with that shape.
+    pub fn specialising(mut self, on: bool) -> Self {
+        self.specialise = on;
+        self
     }
 
     /// The componentwise least and greatest ray directions (un-normalised, see
@@ -307,7 +330,7 @@ impl Culler {
     /// range; one by one for a shape that does not [pack](Shape::packs)), and a finished narrowing's slot takes the next cell. A cell depends only on
     /// its parent's narrowing, so the cells dropped and the depths handed to rays are
     /// those of a depth-first visit; only the order in which rays are handed out differs.
-    pub fn traverse<A: Arithmetic, S: Shape + ?Sized, F: FnMut(u32, u32, Start)>(
+    pub fn traverse<A: Arithmetic, S: Shape, F: FnMut(u32, u32, Start, Option<&Arc<S>>)>(
         &self,
         shape: &S,
         rect: (u32, u32, u32, u32),
@@ -316,16 +339,16 @@ impl Culler {
     ) {
         let s = self.s_range;
         let start = Start::whole(s.0, s.1);
-        struct Slot<R> {
-            cell: Cell,
+        struct Slot<R, S> {
+            cell: Cell<S>,
             bundle: Bundle,
             narrowing: Narrowing<R>,
             forms: [R; 3],
         }
         let mut todo = Vec::with_capacity(64);
-        self.enqueue(rect, s, start, None, &mut todo, trace);
-        let mut slots: [Option<Slot<A::Cell>>; LANES] = Default::default();
-        let packs = shape.packs();
+        self.enqueue(rect, s, start, None, None, &mut todo, trace);
+        let mut slots: [Option<Slot<A::Cell, S>>; LANES] = Default::default();
+        let specialise = self.specialise && shape.specialises();
         loop {
             for slot in slots.iter_mut() {
                 while slot.is_none() {
@@ -342,15 +365,25 @@ impl Culler {
                                 forms,
                             })
                         }
-                        Step::Done(res) => {
-                            self.narrowed(cell, &bundle, res, &mut todo, stats, trace)
-                        }
+                        Step::Done(res) => self.narrowed::<A, S, F>(
+                            shape, specialise, cell, &bundle, res, &mut todo, stats, trace,
+                        ),
                     }
                 }
             }
             let Some(first) = slots.iter().position(Option::is_some) else {
                 return;
             };
+            let shape_of = |k: usize| -> Option<&S> {
+                let cell = &slots[k].as_ref()?.cell;
+                Some(cell.shape.as_deref().unwrap_or(shape))
+            };
+            // One packed evaluation needs one shape for all lanes: the cells' own
+            // (siblings share their parent's), or each cell alone.
+            let first_shape = shape_of(first).map(|s| s as *const S);
+            let shared =
+                (0..LANES).all(|k| shape_of(k).is_none_or(|s| Some(s as *const S) == first_shape));
+            let lead = shape_of(first).expect("an active slot");
             let alone = slots.iter().flatten().count() == 1;
             // Lanes without a narrowing repeat the first one's slice (their results are
             // dropped).
@@ -361,26 +394,31 @@ impl Culler {
                     .expect("an active slot")
                     .forms
             };
-            let ranges: [Option<A::Cell>; LANES] = if alone || !packs {
+            let ranges: [Option<A::Cell>; LANES] = if alone || !shared || !lead.packs() {
                 core::array::from_fn(|k| {
                     let [x, y, z] = slots[k].as_ref()?.forms.clone();
-                    Some(shape.eval(x, y, z))
+                    Some(shape_of(k)?.eval(x, y, z))
                 })
             } else {
                 let [x, y, z]: [A::CellPack; 3] = core::array::from_fn(|i| {
                     A::CellPack::pack(core::array::from_fn(|k| forms_of(k)[i].clone()))
                 });
-                shape.eval(x, y, z).unpack().map(Some)
+                lead.eval(x, y, z).unpack().map(Some)
             };
+            let ops: [u64; LANES] =
+                core::array::from_fn(|k| shape_of(k).and_then(Shape::tape_len).unwrap_or(0) as u64);
             for (k, f) in ranges.into_iter().enumerate() {
                 let (Some(slot), Some(f)) = (&mut slots[k], f) else {
                     continue;
                 };
+                stats.cell_ops += ops[k];
                 match slot.narrowing.feed(f, self, &slot.bundle, stats) {
                     Step::Eval(forms) => slot.forms = forms,
                     Step::Done(res) => {
                         let Slot { cell, bundle, .. } = slots[k].take().expect("an active slot");
-                        self.narrowed(cell, &bundle, res, &mut todo, stats, trace);
+                        self.narrowed::<A, S, F>(
+                            shape, specialise, cell, &bundle, res, &mut todo, stats, trace,
+                        );
                     }
                 }
             }
@@ -388,14 +426,19 @@ impl Culler {
     }
 
     /// A cell whose narrowing ended with `res` (`None`: dropped): its four children are
-    /// queued, those too small to be tested hand their rays out at once.
+    /// queued, those too small to be tested hand their rays out at once. With
+    /// `specialise`, they get the cell's shape specialised to the region they search:
+    /// the cell's bundle at the depths left to them, widened by twice the margin
+    /// (rays search up to one margin beyond).
     #[allow(clippy::too_many_arguments)]
-    fn narrowed<F: FnMut(u32, u32, Start)>(
+    fn narrowed<A: Arithmetic, S: Shape, F: FnMut(u32, u32, Start, Option<&Arc<S>>)>(
         &self,
-        cell: Cell,
+        root: &S,
+        specialise: bool,
+        cell: Cell<S>,
         bundle: &Bundle,
         res: Option<((f64, f64), Option<Fit>)>,
-        todo: &mut Vec<Cell>,
+        todo: &mut Vec<Cell<S>>,
         stats: &mut CullStats,
         trace: &mut F,
     ) {
@@ -408,6 +451,35 @@ impl Culler {
         };
         let parent = fit.as_ref().map(|f| (bundle, f));
         let s = (first, cell.s_range.1);
+        let mut local = cell.shape;
+        if specialise {
+            let m = 2.0 * self.margin;
+            let (a, b) = (s.0 - m, s.1 + m);
+            let k = SPECIALISE_SLICES;
+            let regions: Vec<[A::Cell; 3]> = (0..k)
+                .filter_map(|i| {
+                    let lo = if i == 0 {
+                        a
+                    } else {
+                        a + (b - a) * i as f64 / k as f64
+                    };
+                    let hi = if i + 1 == k {
+                        b
+                    } else {
+                        a + (b - a) * (i + 1) as f64 / k as f64
+                    };
+                    self.region::<A::Cell>(bundle, (lo, hi))
+                })
+                .collect();
+            if !regions.is_empty() {
+                let current = local.as_deref().unwrap_or(root);
+                stats.cells_specialised += regions.len() as u64;
+                stats.cell_ops += (regions.len() * current.tape_len().unwrap_or(0)) as u64;
+                if let Some(t) = current.specialise(&regions) {
+                    local = Some(Arc::new(t));
+                }
+            }
+        }
         let plain = Start {
             t0: first,
             split: first_end,
@@ -423,22 +495,39 @@ impl Culler {
                     let start = parent
                         .and_then(|(b, fit)| self.fit_start(b, fit, rect, s))
                         .unwrap_or(plain);
-                    self.enqueue(rect, s, start, parent, todo, trace);
+                    self.enqueue(rect, s, start, parent, local.clone(), todo, trace);
                 }
             }
         }
     }
 
+    /// The inputs of a range over the bundle's points at the depths `s`: its frustum
+    /// form (arithmetics with symbols), or its box; `None` where they miss the domain.
+    fn region<R: Range>(&self, bundle: &Bundle, s: (f64, f64)) -> Option<[R; 3]> {
+        let (b, t) = self.box_of((bundle.dmin, bundle.dmax), (bundle.omin, bundle.omax), s)?;
+        Some(if R::INPUTS >= 3 {
+            self.frustum::<R>(bundle, t.0, t.1)
+        } else {
+            [
+                R::input(0, b.min.x, b.max.x),
+                R::input(1, b.min.y, b.max.y),
+                R::input(2, b.min.z, b.max.z),
+            ]
+        })
+    }
+
     /// Queues the cell `rect` for its narrowing, or, when it is too small to be tested,
     /// hands out its rays (each started from its own share of the parent's form where
     /// there is one).
-    fn enqueue<F: FnMut(u32, u32, Start)>(
+    #[allow(clippy::too_many_arguments)]
+    fn enqueue<S, F: FnMut(u32, u32, Start, Option<&Arc<S>>)>(
         &self,
         rect: (u32, u32, u32, u32),
         s_range: (f64, f64),
         start: Start,
         parent: Option<(&Bundle, &Fit)>,
-        todo: &mut Vec<Cell>,
+        shape: Option<Arc<S>>,
+        todo: &mut Vec<Cell<S>>,
         trace: &mut F,
     ) {
         let (i0, j0, i1, j1) = rect;
@@ -451,6 +540,7 @@ impl Culler {
                 rect,
                 s_range,
                 start,
+                shape,
             });
             return;
         }
@@ -484,6 +574,7 @@ impl Culler {
                         step: st.step,
                         t1: s_range.1 + self.margin,
                     },
+                    shape.as_ref(),
                 );
             }
         }
@@ -586,13 +677,14 @@ impl Culler {
     }
 }
 
-/// A cell waiting for its narrowing: its pixels, the depths left to it and where its
-/// narrowing starts (in depth, without the margins handed to rays).
-#[derive(Clone, Copy, Debug)]
-struct Cell {
+/// A cell waiting for its narrowing: its pixels, the depths left to it, where its
+/// narrowing starts (in depth, without the margins handed to rays) and its shape
+/// specialised to its parent's region (`None`: the whole shape).
+struct Cell<S> {
     rect: (u32, u32, u32, u32),
     s_range: (f64, f64),
     start: Start,
+    shape: Option<Arc<S>>,
 }
 
 /// The next step of a [`Narrowing`].
@@ -846,7 +938,7 @@ mod tests {
                 ) -> (Vec<(u32, u32, Start)>, CullStats) {
                     let mut rays = Vec::new();
                     let mut stats = CullStats::default();
-                    let mut trace = |i, j, d| rays.push((j, i, d));
+                    let mut trace = |i, j, d, _: Option<&Arc<S>>| rays.push((j, i, d));
                     crate::with_arith!(kind, A => c.traverse::<A, _, _>(shape, rect, &mut stats, &mut trace));
                     rays.sort_by_key(|r| (r.0, r.1));
                     (rays, stats)
@@ -883,7 +975,7 @@ mod tests {
                     let mut got = vec![None; (w * h) as usize];
                     let mut stats = CullStats::default();
                     let mut gaps = 0;
-                    let mut trace = |i: u32, j: u32, s: Start| {
+                    let mut trace = |i: u32, j: u32, s: Start, _: Option<&Arc<Ball>>| {
                         assert!(s.t0 <= s.split && s.split <= s.resume, "{s:?}");
                         assert!(s.resume <= s.t1 && s.step >= 0.0, "{s:?}");
                         gaps += usize::from(s.resume > s.split);

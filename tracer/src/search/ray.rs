@@ -532,6 +532,9 @@ pub struct RayJob {
     pub d: DVec3,
     /// Where its search starts.
     pub start: Start,
+    /// Its shape: an index into the shapes given to [`first_roots`] (a cell's
+    /// specialised shape, valid on this ray's segment, or the whole shape).
+    pub shape: u32,
 }
 
 /// [`first_root`] for many rays, four at a time: each step evaluates the
@@ -540,9 +543,10 @@ pub struct RayJob {
 /// [pack](Shape::packs)), and a finished search's slot
 /// takes the next ray. Calls `done(index, first root, counters)` once per ray, in the
 /// order the rays finish. The roots are those of [`first_root`], ray by ray:
-/// each lane of a pack is the scalar ray form's range.
+/// each lane of a pack is the scalar ray form's range. Each ray is searched with its
+/// own shape, `shapes[ray.shape]`; lanes are packed when they share one.
 pub fn first_roots<A: Arithmetic, S: Shape + ?Sized>(
-    shape: &S,
+    shapes: &[&S],
     params: &RayParams,
     rays: &[RayJob],
     mut done: impl FnMut(usize, Option<f64>, RayStats),
@@ -554,7 +558,7 @@ pub fn first_roots<A: Arithmetic, S: Shape + ?Sized>(
         stats: RayStats,
     }
     let ctx = |r: &RayJob| RayCtx {
-        shape,
+        shape: shapes[r.shape as usize],
         o: r.o,
         d: r.d,
         params,
@@ -562,7 +566,6 @@ pub fn first_roots<A: Arithmetic, S: Shape + ?Sized>(
     let mut slots: [Option<Slot>; LANES] = Default::default();
     let mut stacks: [Vec<(f64, f64)>; LANES] = core::array::from_fn(|_| Vec::with_capacity(64));
     let mut queue = 0..rays.len();
-    let packs = shape.packs();
     loop {
         for (slot, stack) in slots.iter_mut().zip(&mut stacks) {
             while slot.is_none() {
@@ -587,6 +590,9 @@ pub fn first_roots<A: Arithmetic, S: Shape + ?Sized>(
             return;
         };
         let alone = slots.iter().flatten().count() == 1;
+        let lead = rays[slots[first].as_ref().map_or(0, |s| s.ray)].shape;
+        let shared = slots.iter().flatten().all(|s| rays[s.ray].shape == lead);
+        let shape = shapes[lead as usize];
         // Lanes without a search repeat the first one's segment (their results are
         // dropped).
         let seg_of = |k: usize| {
@@ -595,11 +601,11 @@ pub fn first_roots<A: Arithmetic, S: Shape + ?Sized>(
                 .or(slots[first].as_ref())
                 .map(|s| (&rays[s.ray], s.seg))
         };
-        let ranges: [Option<A::Ray>; LANES] = if alone || !packs {
+        let ranges: [Option<A::Ray>; LANES] = if alone || !shared || !shape.packs() {
             core::array::from_fn(|k| {
                 let s = slots[k].as_ref()?;
                 let (r, (a, b)) = (&rays[s.ray], s.seg);
-                Some(range_on_segment(shape, r.o, r.d, a, b))
+                Some(range_on_segment(shapes[r.shape as usize], r.o, r.d, a, b))
             })
         } else {
             // `ray_inputs` lane by lane: `t d + o`.
@@ -724,13 +730,18 @@ mod tests {
                     step: 0.0,
                     t1,
                 };
-                jobs.push(RayJob { o, d, start });
+                jobs.push(RayJob {
+                    o,
+                    d,
+                    start,
+                    shape: 0,
+                });
             }
             assert!(jobs.len() >= 9, "{}: {} rays", m.name, jobs.len());
             for kind in crate::arith::ArithKind::ALL {
                 crate::with_arith!(kind, A => {
                     let mut got = vec![None; jobs.len()];
-                    first_roots::<A, _>(&m, &params, &jobs, |k, hit, st| {
+                    first_roots::<A, _>(&[&m], &params, &jobs, |k, hit, st| {
                         assert!(got[k].is_none(), "ray {k} reported twice");
                         got[k] = Some((hit, st));
                     });

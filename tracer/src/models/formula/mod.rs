@@ -28,10 +28,12 @@
 mod ast;
 mod branch;
 mod parse;
+mod specialise;
 mod tape;
 
 pub use ast::{BinOp, Binding, Expr, Func, Program, Var};
 pub use parse::{parse_program, ParseError, MAX_EXPONENT, MAX_NESTING, MAX_TREE_DEPTH};
+pub use specialise::{CACHE_LIMIT, MIN_SPECIALISE_LEN};
 pub(crate) use tape::folded_const;
 pub use tape::{CompileError, Instr, Op, Tape, EPS};
 
@@ -97,5 +99,17 @@ impl Shape for Tape {
     /// packs do not answer: a tape with them evaluates its forms one at a time.
     fn packs(&self) -> bool {
         !self.has_branches()
+    }
+
+    fn specialises(&self) -> bool {
+        Tape::specialises(self)
+    }
+
+    fn tape_len(&self) -> Option<usize> {
+        Some(self.len())
+    }
+
+    fn specialise<R: arith_core::Range>(&self, regions: &[[R; 3]]) -> Option<Self> {
+        Tape::specialise(self, regions)
     }
 }

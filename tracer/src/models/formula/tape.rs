@@ -22,6 +22,7 @@ use std::any::Any;
 use std::cell::RefCell;
 use std::collections::{HashMap, HashSet};
 use std::fmt;
+use std::sync::{Arc, OnceLock};
 
 /// What an instruction computes. `a`, `b` are operand registers, `c` an `f64` constant,
 /// `n` an integer exponent.
@@ -181,7 +182,7 @@ pub struct Instr {
 }
 
 impl Instr {
-    fn new(op: Op, a: u32, b: u32, n: i32, c: f64) -> Self {
+    pub(super) fn new(op: Op, a: u32, b: u32, n: i32, c: f64) -> Self {
         Instr {
             op,
             n,
@@ -203,7 +204,7 @@ impl Instr {
         }
     }
 
-    fn reg(&self, k: usize) -> u32 {
+    pub(super) fn reg(&self, k: usize) -> u32 {
         match k {
             0 => self.a,
             1 => self.b,
@@ -246,7 +247,10 @@ impl fmt::Display for Instr {
 /// A compiled formula: evaluate it with [`Tape::eval`] (or through [`crate::shape::Shape`]).
 #[derive(Clone, Debug)]
 pub struct Tape {
-    ins: Vec<Instr>,
+    ins: Arc<[Instr]>,
+    /// What region specialisation needs of this tape, built on first use
+    /// ([`super::specialise`]); shared by clones.
+    pub(super) spec: Arc<OnceLock<super::specialise::Specialiser>>,
 }
 
 /// Why a hand-built [`Program`] cannot be compiled (the parser never produces one).
@@ -262,7 +266,7 @@ impl fmt::Display for CompileError {
 impl std::error::Error for CompileError {}
 
 #[derive(Clone, Copy, Debug)]
-enum Val {
+pub(super) enum Val {
     C(f64),
     R(u32),
 }
@@ -273,15 +277,23 @@ type Key = (Op, i32, [u32; 3], u64);
 /// HyperFun's tolerance for truth values and equality: `|v| >= EPS` holds.
 pub const EPS: f64 = 1e-6;
 
-struct Builder {
-    ins: Vec<Instr>,
+pub(super) struct Builder {
+    pub(super) ins: Vec<Instr>,
     memo: HashMap<Key, u32>,
     /// Registers whose value is a truth value, exactly 0 or 1 at every point.
     bools: HashSet<u32>,
 }
 
 impl Builder {
-    fn emit(&mut self, mut i: Instr) -> u32 {
+    pub(super) fn new() -> Self {
+        Builder {
+            ins: Vec::new(),
+            memo: HashMap::new(),
+            bools: HashSet::new(),
+        }
+    }
+
+    pub(super) fn emit(&mut self, mut i: Instr) -> u32 {
         if i.op.commutative() && i.a > i.b {
             std::mem::swap(&mut i.a, &mut i.b);
         }
@@ -321,7 +333,7 @@ impl Builder {
         }
     }
 
-    fn step(&mut self, s: Step, v: Val) -> Val {
+    pub(super) fn step(&mut self, s: Step, v: Val) -> Val {
         match v {
             Val::C(c) => Val::C(s.at(c)),
             Val::R(r) => {
@@ -397,7 +409,7 @@ impl Builder {
     }
 
     /// `if(c, t, e)`: the branch itself where `c` folds, else a selection.
-    fn select(&mut self, c: Val, t: Val, e: Val) -> Val {
+    pub(super) fn select(&mut self, c: Val, t: Val, e: Val) -> Val {
         match self.truth(c) {
             Val::C(p) => {
                 if p == 1.0 {
@@ -443,20 +455,20 @@ impl Builder {
         self.binary(BinOp::Add, set, d)
     }
 
-    fn reg(&mut self, v: Val) -> u32 {
+    pub(super) fn reg(&mut self, v: Val) -> u32 {
         match v {
             Val::R(r) => r,
             Val::C(c) => self.emit(Instr::new(Op::Const, 0, 0, 0, c)),
         }
     }
 
-    fn unary(&mut self, op: Op, v: Val) -> Val {
+    pub(super) fn unary(&mut self, op: Op, v: Val) -> Val {
         let a = self.reg(v);
         Val::R(self.emit(Instr::new(op, a, 0, 0, 0.0)))
     }
 
     /// `op(v)`, folded where `v` is a constant and the result is exact.
-    fn unary_folded(&mut self, op: Op, v: Val) -> Val {
+    pub(super) fn unary_folded(&mut self, op: Op, v: Val) -> Val {
         if let Val::C(c) = v {
             if let Some(r) = fold_unary(op, c) {
                 return Val::C(r);
@@ -465,7 +477,7 @@ impl Builder {
         self.unary(op, v)
     }
 
-    fn powi(&mut self, v: Val, n: i32) -> Val {
+    pub(super) fn powi(&mut self, v: Val, n: i32) -> Val {
         if let Val::C(c) = v {
             if let Some(p) = exact_powi(c, n) {
                 return Val::C(p);
@@ -479,7 +491,7 @@ impl Builder {
         })
     }
 
-    fn binary(&mut self, op: BinOp, l: Val, r: Val) -> Val {
+    pub(super) fn binary(&mut self, op: BinOp, l: Val, r: Val) -> Val {
         match op {
             BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge | BinOp::Eq | BinOp::Ne => {
                 return self.compare(op, l, r)
@@ -814,7 +826,7 @@ thread_local! {
 
 /// Runs `f` with an empty register file for `R`, reusing this thread's buffer when it
 /// is free (a nested or late evaluation just allocates a fresh one).
-fn with_registers<R: 'static, T>(f: impl FnOnce(&mut Vec<Option<R>>) -> T) -> T {
+pub(super) fn with_registers<R: 'static, T>(f: impl FnOnce(&mut Vec<Option<R>>) -> T) -> T {
     let mut f = Some(f);
     let pooled = REGISTERS.try_with(|pool| {
         let Ok(mut pool) = pool.try_borrow_mut() else {
@@ -857,11 +869,7 @@ fn read<R: Clone>(regs: &mut [Option<R>], i: &Instr, k: u8) -> R {
 impl Tape {
     /// Compiles a syntax tree.
     pub fn compile(p: &Program) -> Result<Tape, CompileError> {
-        let mut b = Builder {
-            ins: Vec::new(),
-            memo: HashMap::new(),
-            bools: HashSet::new(),
-        };
+        let mut b = Builder::new();
         let mut binds = Vec::with_capacity(p.bindings.len());
         for bind in &p.bindings {
             let v = b.expr(&bind.expr, &binds)?;
@@ -869,9 +877,15 @@ impl Tape {
         }
         let out = b.expr(&p.body, &binds)?;
         let out = b.reg(out);
-        Ok(Tape {
-            ins: finish(b.ins, out),
-        })
+        Ok(Tape::from_instructions(finish(b.ins, out)))
+    }
+
+    /// A tape of instructions [`finish`] produced.
+    pub(super) fn from_instructions(ins: Vec<Instr>) -> Tape {
+        Tape {
+            ins: ins.into(),
+            spec: Arc::new(OnceLock::new()),
+        }
     }
 
     /// Whether the tape compares or selects ([`Op::Gt0`], [`Op::Ge0`], [`Op::Select`]).
@@ -904,7 +918,7 @@ impl Tape {
         if let (Some(px), Some(py), Some(pz)) = (point(&x), point(&y), point(&z)) {
             return R::constant(self.eval_f64(px, py, pz));
         }
-        with_registers(|regs: &mut Vec<Option<R>>| self.run(regs, x, y, z))
+        with_registers(|regs: &mut Vec<Option<R>>| self.run(regs, x, y, z, |_, _| {}))
     }
 
     /// Point evaluation with the same `Real` operations as the generic path.
@@ -963,10 +977,19 @@ impl Tape {
         regs[self.ins.len() - 1]
     }
 
-    fn run<R: Real>(&self, regs: &mut Vec<Option<R>>, x: R, y: R, z: R) -> R {
+    /// The generic interpreter; `seen(k, v)` is told each register's value as it is
+    /// computed (a no-op for plain evaluation, compiled away).
+    pub(super) fn run<R: Real>(
+        &self,
+        regs: &mut Vec<Option<R>>,
+        x: R,
+        y: R,
+        z: R,
+        mut seen: impl FnMut(usize, &R),
+    ) -> R {
         regs.clear();
         regs.reserve(self.ins.len());
-        for i in &self.ins {
+        for (k, i) in self.ins.iter().enumerate() {
             let v = match i.op {
                 Op::X => x.clone(),
                 Op::Y => y.clone(),
@@ -1005,6 +1028,7 @@ impl Tape {
                     select(&c, read(regs, i, 1), read(regs, i, 2))
                 }
             };
+            seen(k, &v);
             regs.push(Some(v));
         }
         let out = regs.pop().flatten();
@@ -1015,7 +1039,7 @@ impl Tape {
     /// Parsing it gives a tape with the same values (bit for bit at points).
     pub fn to_program(&self) -> Program {
         let mut uses = vec![0usize; self.ins.len()];
-        for i in &self.ins {
+        for i in self.ins.iter() {
             for &k in i.operands() {
                 uses[i.reg(k) as usize] += 1;
             }
@@ -1122,7 +1146,7 @@ impl Tape {
 const INLINE_DEPTH: usize = 64;
 
 /// Drops instructions the result does not depend on, renumbers, and marks last reads.
-fn finish(ins: Vec<Instr>, out: u32) -> Vec<Instr> {
+pub(super) fn finish(ins: Vec<Instr>, out: u32) -> Vec<Instr> {
     let out = out as usize;
     let mut live = vec![false; ins.len()];
     live[out] = true;
@@ -1199,7 +1223,8 @@ mod tests {
             (0.0, 0.0, 0.0),
         ] {
             let fast = t.eval(x, y, z);
-            let generic = with_registers(|regs: &mut Vec<Option<f64>>| t.run(regs, x, y, z));
+            let generic =
+                with_registers(|regs: &mut Vec<Option<f64>>| t.run(regs, x, y, z, |_, _| {}));
             assert!(
                 fast.to_bits() == generic.to_bits() || (fast.is_nan() && generic.is_nan()),
                 "{fast} vs {generic} at ({x}, {y}, {z})"

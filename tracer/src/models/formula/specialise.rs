@@ -1,0 +1,363 @@
+//! Region specialisation: a tape rewritten for one region of space (a cell of
+//! Algorithm 2 and the rays it hands out) that is shorter and has, at every point of the
+//! region, the same sign as the whole tape, so the same zero set and the same first root
+//! along every ray there.
+//!
+//! One range evaluation over the region ([`Tape::specialise`]) gives the bounds of the
+//! registers that can decide something, and two rules rewrite the tape:
+//!
+//! - **exact**: `min(a, b)` where `a`'s range lies at or below `b`'s is `a` (and `max`
+//!   likewise): the value itself is unchanged;
+//! - **sign only**: a register whose value matters only through its sign (the result,
+//!   and whatever reaches it only through `min`, `max`, the R-functions `&`, `|`, `\`,
+//!   negation, products and quotients by finite nonzero constants, the branches of a
+//!   selection, or is compared with 0) is replaced by the constant `1` (`-1`) where its
+//!   range lies strictly above (below) 0; then `min(1, b)` and `1 & b` become `b`,
+//!   `min(-1, b)` and `-1 & b` become `-1`, and so on. Over the reals
+//!   `sign(a & b) = min(sign a, sign b)` and `sign(a | b) = max(sign a, sign b)`, like
+//!   `min` and `max`, so each rewrite keeps the sign of every consumer up to the result.
+//!
+//! The proofs, the region a cell's tape must cover and why normals still come from the
+//! whole function are in `docs/specialisation.md`. A specialised tape is only valid in
+//! the region it was derived for, and its values there are not those of the function
+//! (only their signs are): it serves root finding and culling, never shading.
+//!
+//! Identical decisions give identical tapes, so each tape keeps the tapes it has built,
+//! keyed by its decisions ([`CACHE_LIMIT`] of them), and neighbouring cells share one.
+
+use super::tape::{finish, with_registers, Builder, Instr, Op, Tape, Val};
+use crate::models::formula::branch::Step;
+use arith_core::{Known, Range, Real};
+use std::collections::HashMap;
+use std::sync::Mutex;
+
+/// Tapes shorter than this are evaluated whole: building a tape costs more than a
+/// short tape's evaluations save.
+pub const MIN_SPECIALISE_LEN: usize = 24;
+
+/// Specialised tapes a tape keeps for reuse.
+pub const CACHE_LIMIT: usize = 512;
+
+/// What a tape's specialisation needs, computed once per tape.
+#[derive(Debug)]
+pub(crate) struct Specialiser {
+    /// Per register: only its sign matters.
+    sign_only: Vec<bool>,
+    /// Per register: its bounds can decide something.
+    watch: Vec<bool>,
+    /// Whether specialising can ever shorten the tape.
+    worth: bool,
+    /// Tapes built so far, by decisions (`None`: no shorter than this one).
+    cache: Mutex<HashMap<Vec<u8>, Option<Tape>>>,
+}
+
+/// A register kept as it is.
+const KEEP: u8 = 0;
+/// Strictly positive over the region (sign only): the constant 1.
+const POS: u8 = 1;
+/// Strictly negative over the region (sign only): the constant -1.
+const NEG: u8 = 2;
+/// A `min` or `max` that is its first operand over the region.
+const TAKE_A: u8 = 3;
+/// A `min` or `max` that is its second operand over the region.
+const TAKE_B: u8 = 4;
+
+/// Whether `sign(i)` depends on operand `k` only through `sign(operand)`, monotonically or
+/// antitonically, given that only `sign(i)` matters.
+fn passes_sign(i: &Instr, k: usize) -> bool {
+    match i.op {
+        Op::Min | Op::Max | Op::Intersect | Op::Union | Op::Subtract | Op::Neg => true,
+        Op::MulC | Op::DivC => i.c.is_finite() && i.c != 0.0,
+        // The condition's value matters, the branches' only through their signs.
+        Op::Select => k > 0,
+        _ => false,
+    }
+}
+
+impl Specialiser {
+    fn new(ins: &[Instr]) -> Self {
+        let n = ins.len();
+        let mut sign_only = vec![false; n];
+        let mut all_uses_pass = vec![true; n];
+        let mut used = vec![false; n];
+        // Consumers come after their operands: walking backwards, a register's every
+        // use has been seen when it is reached.
+        for j in (0..n).rev() {
+            sign_only[j] = j == n - 1 || (used[j] && all_uses_pass[j]);
+            let i = &ins[j];
+            for &k in i.operands() {
+                let r = i.reg(k) as usize;
+                used[r] = true;
+                // A comparison with 0 reads only the sign, whatever its own use.
+                let passes =
+                    matches!(i.op, Op::Gt0 | Op::Ge0) || (sign_only[j] && passes_sign(i, k));
+                all_uses_pass[r] &= passes;
+            }
+        }
+        // Every operand of a `min` or `max` (constants too), and the sign-only registers.
+        let mut watch = sign_only.clone();
+        let mut choices = 0usize;
+        for i in ins {
+            if matches!(i.op, Op::Min | Op::Max) {
+                watch[i.a as usize] = true;
+                watch[i.b as usize] = true;
+                choices += 1;
+            }
+        }
+        let signs = sign_only[..n.saturating_sub(1)]
+            .iter()
+            .zip(ins)
+            .filter(|(&s, i)| s && !matches!(i.op, Op::Const))
+            .count();
+        Specialiser {
+            sign_only,
+            watch,
+            worth: n >= MIN_SPECIALISE_LEN && choices + signs > 0,
+            cache: Mutex::new(HashMap::new()),
+        }
+    }
+
+    /// The decision for each register, from the bounds of the watched ones.
+    fn decide(&self, ins: &[Instr], bounds: &[(f64, f64)]) -> Vec<u8> {
+        ins.iter()
+            .enumerate()
+            .map(|(k, i)| {
+                let (lo, hi) = bounds[k];
+                // A constant keeps its own value (and the result deciding alone means
+                // no root at all: nothing to shorten, but harmless).
+                if self.sign_only[k] && i.op != Op::Const {
+                    if lo > 0.0 {
+                        return POS;
+                    }
+                    if hi < 0.0 {
+                        return NEG;
+                    }
+                }
+                let (a, b) = (bounds[i.a as usize], bounds[i.b as usize]);
+                match i.op {
+                    Op::Min if a.1 <= b.0 => TAKE_A,
+                    Op::Min if b.1 <= a.0 => TAKE_B,
+                    Op::Max if a.0 >= b.1 => TAKE_A,
+                    Op::Max if b.0 >= a.1 => TAKE_B,
+                    _ => KEEP,
+                }
+            })
+            .collect()
+    }
+}
+
+/// Bounds of a value as [`Real::known`] tells them (NaN where unknown: decides nothing).
+fn bounds_of<R: Real>(v: &R) -> (f64, f64) {
+    match v.known() {
+        Known::Range(lo, hi) => (lo, hi),
+        Known::Point(p) => (p, p),
+        Known::Unknown => (f64::NAN, f64::NAN),
+    }
+}
+
+impl Tape {
+    fn specialiser(&self) -> &Specialiser {
+        self.spec
+            .get_or_init(|| Specialiser::new(self.instructions()))
+    }
+
+    /// Whether [`Tape::specialise`] can ever give a shorter tape (long enough, and with
+    /// a `min`, `max` or a sign-only register to decide).
+    pub fn specialises(&self) -> bool {
+        self.specialiser().worth
+    }
+
+    /// The tape specialised to the union of the regions that the ranges `[x, y, z]` of
+    /// `regions` enclose: shorter, and at every point there of the same sign as this
+    /// tape (see the module doc). Each register's bounds are the hull of its bounds
+    /// over the regions, so slicing a long region gives tighter bounds (and a shorter
+    /// tape) than one range over it. `None` when nothing shortens it.
+    ///
+    /// ```
+    /// use arith_core::Range;
+    /// use arith_ia::Interval;
+    /// use tracer::models::formula::parse;
+    /// // Four balls in a row; only the one at the origin reaches the box around it.
+    /// let t = parse("ball = 0.25 - x^2 - y^2 - z^2;
+    ///                max(max(ball, 0.25 - (x-2)^2 - y^2 - z^2),
+    ///                    max(0.25 - (x-4)^2 - y^2 - z^2, 0.25 - (x-6)^2 - y^2 - z^2))").unwrap();
+    /// let i = |lo, hi| Interval::from_interval(lo, hi);
+    /// let s = t.specialise(&[[i(-0.6, 0.6), i(-0.6, 0.6), i(-0.6, 0.6)]]).unwrap();
+    /// assert_eq!(s.to_formula(), "0.25 - x^2 - y^2 - z^2");
+    /// ```
+    pub fn specialise<R: Range>(&self, regions: &[[R; 3]]) -> Option<Tape> {
+        let spec = self.specialiser();
+        if !spec.worth || regions.is_empty() {
+            return None;
+        }
+        let ins = self.instructions();
+        // The hull over the regions of each watched register, from an empty start;
+        // NaN (decides nothing) for the others.
+        let mut bounds: Vec<(f64, f64)> = spec
+            .watch
+            .iter()
+            .map(|&w| {
+                if w {
+                    (f64::INFINITY, f64::NEG_INFINITY)
+                } else {
+                    (f64::NAN, f64::NAN)
+                }
+            })
+            .collect();
+        for [x, y, z] in regions {
+            with_registers(|regs: &mut Vec<Option<R>>| {
+                self.run(regs, x.clone(), y.clone(), z.clone(), |k, v| {
+                    if spec.watch[k] {
+                        let (lo, hi) = bounds_of(v);
+                        let b = &mut bounds[k];
+                        // NaN stays: it decides nothing.
+                        b.0 = if lo.is_nan() || b.0.is_nan() {
+                            f64::NAN
+                        } else {
+                            b.0.min(lo)
+                        };
+                        b.1 = if hi.is_nan() || b.1.is_nan() {
+                            f64::NAN
+                        } else {
+                            b.1.max(hi)
+                        };
+                    }
+                })
+            });
+        }
+        let decisions = spec.decide(ins, &bounds);
+        if decisions.iter().all(|&d| d == KEEP) {
+            return None;
+        }
+        if let Ok(cache) = spec.cache.lock() {
+            if let Some(t) = cache.get(&decisions) {
+                return t.clone();
+            }
+        }
+        let t = rebuild(ins, &spec.sign_only, &decisions);
+        let t = (t.len() < ins.len()).then_some(t);
+        if let Ok(mut cache) = spec.cache.lock() {
+            if cache.len() < CACHE_LIMIT {
+                cache.insert(decisions, t.clone());
+            }
+        }
+        t
+    }
+}
+
+/// The tape `ins` with `decisions` applied, simplified and stripped of dead code.
+fn rebuild(ins: &[Instr], sign_only: &[bool], decisions: &[u8]) -> Tape {
+    let n = ins.len();
+    // What the result still reads once the decisions are made (emitting the rest would
+    // only be undone by `finish`).
+    let mut live = vec![false; n];
+    live[n - 1] = true;
+    for k in (0..n).rev() {
+        if !live[k] {
+            continue;
+        }
+        let i = &ins[k];
+        match decisions[k] {
+            POS | NEG => {}
+            TAKE_A => live[i.a as usize] = true,
+            TAKE_B => live[i.b as usize] = true,
+            _ => {
+                for &p in i.operands() {
+                    live[i.reg(p) as usize] = true;
+                }
+            }
+        }
+    }
+    let mut b = Builder::new();
+    let mut map: Vec<Val> = vec![Val::C(f64::NAN); n];
+    for (k, i) in ins.iter().enumerate() {
+        if !live[k] {
+            continue;
+        }
+        let arg = |p: usize| map[i.reg(p) as usize];
+        map[k] = match decisions[k] {
+            POS => Val::C(1.0),
+            NEG => Val::C(-1.0),
+            TAKE_A => arg(0),
+            TAKE_B => arg(1),
+            _ => reemit(&mut b, i, [arg(0), arg(1), arg(2)], sign_only[k]),
+        };
+    }
+    let out = b.reg(map[n - 1]);
+    Tape::from_instructions(finish(b.ins, out))
+}
+
+/// `i` over the new operands `v`, folded where they are constants: exactly where the
+/// value matters, by sign where only the sign does (`sign`).
+fn reemit(b: &mut Builder, i: &Instr, v: [Val; 3], sign: bool) -> Val {
+    use super::ast::BinOp;
+    let [a, c2, e] = v;
+    let c = Val::C(i.c);
+    let regs = |b: &mut Builder, op: Op, x: Val, y: Val| {
+        let (x, y) = (b.reg(x), b.reg(y));
+        Val::R(b.emit(Instr::new(op, x, y, 0, 0.0)))
+    };
+    let pos = |v: Val| matches!(v, Val::C(p) if p > 0.0);
+    let neg = |v: Val| matches!(v, Val::C(p) if p < 0.0);
+    match i.op {
+        Op::X | Op::Y | Op::Z => Val::R(b.emit(Instr::new(i.op, 0, 0, 0, 0.0))),
+        Op::Const => c,
+        Op::Neg => match a {
+            Val::C(p) => Val::C(-p),
+            _ => b.unary(Op::Neg, a),
+        },
+        Op::Sqr => b.powi(a, 2),
+        Op::Powi => b.powi(a, i.n),
+        Op::Sqrt | Op::Exp | Op::Ln | Op::Sin | Op::Cos | Op::Abs => b.unary_folded(i.op, a),
+        Op::AddC => b.binary(BinOp::Add, a, c),
+        Op::SubC => b.binary(BinOp::Sub, a, c),
+        Op::RSubC => b.binary(BinOp::Sub, c, a),
+        Op::MulC => b.binary(BinOp::Mul, a, c),
+        Op::DivC => b.binary(BinOp::Div, a, c),
+        Op::RDivC => b.binary(BinOp::Div, c, a),
+        Op::Add => b.binary(BinOp::Add, a, c2),
+        Op::Sub => b.binary(BinOp::Sub, a, c2),
+        Op::Mul => b.binary(BinOp::Mul, a, c2),
+        Op::Div => b.binary(BinOp::Div, a, c2),
+        // By sign: a meet is its other operand where one is positive, negative where
+        // one is negative; a join the other way round.
+        Op::Min | Op::Intersect if sign && (pos(a) || pos(c2)) => {
+            if pos(a) {
+                c2
+            } else {
+                a
+            }
+        }
+        Op::Min | Op::Intersect if sign && (neg(a) || neg(c2)) => Val::C(-1.0),
+        Op::Max | Op::Union if sign && (neg(a) || neg(c2)) => {
+            if neg(a) {
+                c2
+            } else {
+                a
+            }
+        }
+        Op::Max | Op::Union if sign && (pos(a) || pos(c2)) => Val::C(1.0),
+        // `a \ b` is `a & -b`.
+        Op::Subtract if sign && neg(c2) => a,
+        Op::Subtract if sign && pos(a) => match c2 {
+            Val::C(q) => Val::C(-q),
+            _ => b.unary(Op::Neg, c2),
+        },
+        Op::Subtract if sign && (neg(a) || pos(c2)) => Val::C(-1.0),
+        Op::Min | Op::Max => match (a, c2) {
+            (Val::C(p), Val::C(q)) => Val::C(if i.op == Op::Min {
+                Real::min(&p, &q)
+            } else {
+                Real::max(&p, &q)
+            }),
+            _ => regs(b, i.op, a, c2),
+        },
+        Op::Intersect => b.binary(BinOp::Intersect, a, c2),
+        Op::Union => b.binary(BinOp::Union, a, c2),
+        Op::Subtract => b.binary(BinOp::Subtract, a, c2),
+        Op::BlendUnion | Op::BlendIntersect => regs(b, i.op, a, c2),
+        Op::Gt0 => b.step(Step::Pos, a),
+        Op::Ge0 => b.step(Step::NonNeg, a),
+        Op::Select => b.select(a, c2, e),
+    }
+}

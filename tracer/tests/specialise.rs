@@ -1,0 +1,307 @@
+//! Region specialisation ([`Tape::specialise`]) keeps the sign of the function at every
+//! point of the region and never lengthens a tape (random formulas over random boxes),
+//! does shorten scenes of separate parts, and renders with it on and off agree: with
+//! the analytic hits of a scene of balls (no missed root, hit points on the surface,
+//! depths within the precision) and, on every Appendix A model written as a formula, in
+//! their hit masks.
+
+use arith_aa::Aa;
+use arith_core::Range;
+use arith_hull::Hull;
+use arith_ia::Interval;
+use arith_revaa::RevAa;
+use glam::DVec3;
+use proptest::prelude::*;
+use tracer::arith::ArithKind;
+use tracer::camera::Camera;
+use tracer::models::formula::{parse, Tape, MIN_SPECIALISE_LEN};
+use tracer::models::{Model, PaperModel};
+use tracer::render::{render_kind, RenderOptions};
+use tracer::search::ray::clip;
+use tracer::shape::{Aabb, View};
+
+/// Leaves: balls, slabs and the coordinates, so that ranges over small boxes decide.
+fn leaf() -> impl Strategy<Value = String> {
+    prop_oneof![
+        (-2.0..2.0f64, -2.0..2.0f64, -2.0..2.0f64, 0.05..1.0f64)
+            .prop_map(|(a, b, c, r)| format!("({r} - (x - {a})^2 - (y - {b})^2 - (z - {c})^2)")),
+        (-1.5..1.5f64).prop_map(|c| format!("({c} - x)")),
+        (-1.5..1.5f64).prop_map(|c| format!("(y - {c})")),
+        Just("z".to_string()),
+        (-2.0..2.0f64).prop_map(|c| format!("{c}")),
+    ]
+}
+
+/// Trees over the operations specialisation looks through, and others it must not.
+fn tree() -> impl Strategy<Value = String> {
+    leaf().prop_recursive(6, 48, 2, |inner| {
+        let ops = [
+            "min({a}, {b})",
+            "max({a}, {b})",
+            "({a} & {b})",
+            "({a} | {b})",
+            "({a} \\ {b})",
+            "-({a})",
+            "(3 * {a})",
+            "({a} / -2)",
+            "({a} + {b})",
+            "({a} * {b})",
+            "if({a} > 0, {b}, {a})",
+            "if({a} <= {b}, {a}, -1)",
+            "({a} > 0)",
+            "exp({a}) - 1",
+            "blend_union({a}, {b})",
+            "min({a}, {a})",
+        ];
+        (prop::sample::select(ops.to_vec()), inner.clone(), inner)
+            .prop_map(|(op, a, b)| op.replace("{a}", &a).replace("{b}", &b))
+    })
+}
+
+/// The box `centre ± half`.
+fn region() -> impl Strategy<Value = [(f64, f64); 3]> {
+    (
+        prop::array::uniform3(-2.0..2.0f64),
+        prop::array::uniform3(0.01..1.5f64),
+    )
+        .prop_map(|(c, h)| core::array::from_fn(|k| (c[k] - h[k], c[k] + h[k])))
+}
+
+/// `t` specialised over `b` in the arithmetic `R` (cell form, three symbols).
+fn specialised<R: Range>(t: &Tape, b: &[(f64, f64); 3]) -> Option<Tape> {
+    let region: [R; 3] = core::array::from_fn(|k| R::input(k, b[k].0, b[k].1));
+    t.specialise(&[region])
+}
+
+/// Whether the signs of `t` and `s` at `p` are certainly different: their interval
+/// enclosures at the point lie strictly on opposite sides of 0.
+fn signs_differ(t: &Tape, s: &Tape, p: [f64; 3]) -> bool {
+    let at = |t: &Tape| {
+        let [x, y, z] = p.map(|c| Interval::from_interval(c, c));
+        t.eval(x, y, z).bounds()
+    };
+    let (a, b) = (at(t), at(s));
+    (a.0 > 0.0 && b.1 < 0.0) || (a.1 < 0.0 && b.0 > 0.0)
+}
+
+fn check_signs(t: &Tape, s: &Tape, b: &[(f64, f64); 3], seed: u64) -> Result<(), String> {
+    if s.len() >= t.len() {
+        return Err(format!("not shorter: {} >= {}", s.len(), t.len()));
+    }
+    let mut state = seed | 1;
+    let mut rnd = || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for n in 0..64 {
+        // Corners and faces first: the region is closed.
+        let p: [f64; 3] = core::array::from_fn(|k| {
+            let u = if n < 8 {
+                f64::from((n >> k) & 1)
+            } else {
+                rnd()
+            };
+            b[k].0 + (b[k].1 - b[k].0) * u
+        });
+        if signs_differ(t, s, p) {
+            return Err(format!(
+                "signs differ at {p:?}\nwhole:\n{t}\nspecialised:\n{s}"
+            ));
+        }
+    }
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(400))]
+
+    /// In IA, AA, RevAA and Hull: a specialised tape is shorter and nowhere in the region
+    /// of the opposite sign.
+    #[test]
+    fn specialised_tapes_keep_the_sign(f in tree(), b in region(), seed in any::<u64>()) {
+        let t = parse(&f).unwrap();
+        for s in [
+            specialised::<Interval>(&t, &b),
+            specialised::<Aa>(&t, &b),
+            specialised::<RevAa<3>>(&t, &b),
+            specialised::<Hull<3>>(&t, &b),
+        ]
+        .into_iter()
+        .flatten()
+        {
+            check_signs(&t, &s, &b, seed).map_err(TestCaseError::fail)?;
+            // Specialising again over the same region is sound too.
+            if let Some(s2) = specialised::<RevAa<3>>(&s, &b) {
+                check_signs(&t, &s2, &b, seed ^ 0x5555).map_err(TestCaseError::fail)?;
+            }
+        }
+    }
+}
+
+/// `n` balls of radius 0.2 at the points of a 3-D grid, joined by `max` or by `|`.
+fn balls(n: usize, join: &str) -> (String, Vec<DVec3>) {
+    let mut centres = Vec::new();
+    let mut terms = Vec::new();
+    for k in 0..n {
+        let c = DVec3::new(
+            -0.9 + 0.6 * (k % 4) as f64,
+            -0.9 + 0.6 * ((k / 4) % 4) as f64,
+            -0.9 + 0.6 * (k / 16) as f64,
+        );
+        terms.push(format!(
+            "(0.04 - (x - {})^2 - (y - {})^2 - (z - {})^2)",
+            c.x, c.y, c.z
+        ));
+        centres.push(c);
+    }
+    let text = if join == "max" {
+        terms
+            .iter()
+            .skip(1)
+            .fold(terms[0].clone(), |a, t| format!("max({a}, {t})"))
+    } else {
+        terms.join(" | ")
+    };
+    (text, centres)
+}
+
+#[test]
+fn a_box_around_one_ball_keeps_that_ball() {
+    let (text, _) = balls(16, "max");
+    let t = parse(&text).unwrap();
+    assert!(t.len() >= MIN_SPECIALISE_LEN);
+    // The ball at (-0.9, -0.9, -0.9) and its surface; its neighbours are 0.6 away.
+    let b = [(-1.15, -0.65), (-1.15, -0.65), (-1.15, -0.65)];
+    let s = specialised::<RevAa<3>>(&t, &b).expect("shorter");
+    assert_eq!(
+        s.to_formula(),
+        "0.04 - (x - (-0.9))^2 - (y - (-0.9))^2 - (z - (-0.9))^2"
+    );
+    // With R-function unions, the same.
+    let (text, _) = balls(16, "|");
+    let t = parse(&text).unwrap();
+    let s = specialised::<Interval>(&t, &b).expect("shorter");
+    assert_eq!(
+        s.to_formula(),
+        "0.04 - (x - (-0.9))^2 - (y - (-0.9))^2 - (z - (-0.9))^2"
+    );
+    // A box far from every ball: the constant -1 (no surface).
+    let far = [(1.2, 1.4), (1.2, 1.4), (1.2, 1.4)];
+    let s = specialised::<RevAa<3>>(&t, &far).expect("shorter");
+    assert_eq!(s.to_formula(), "(-1.0)");
+}
+
+/// The ray against the balls: `(margin, t, clean)`; it meets one iff `margin > 0` (the
+/// largest discriminant), `t` is its first entry, and `clean` says that it crosses that
+/// ball well inside its outline and grazes no ball in front of it.
+fn balls_hit(o: DVec3, d: DVec3, centres: &[DVec3]) -> (f64, f64, bool) {
+    let rays: Vec<(f64, f64)> = centres
+        .iter()
+        .map(|c| {
+            let q = o - *c;
+            let b = q.dot(d);
+            let disc = b * b - (q.length_squared() - 0.04);
+            (disc, -b - disc.max(0.0).sqrt())
+        })
+        .collect();
+    let margin = rays.iter().map(|r| r.0).fold(f64::NEG_INFINITY, f64::max);
+    let (disc, t) = rays
+        .iter()
+        .filter(|r| r.0 > 1e-9)
+        .fold((0.0, f64::INFINITY), |a, &r| if r.1 < a.1 { r } else { a });
+    let grazed = rays.iter().any(|r| r.0 > -1e-9 && r.0 <= 1e-2 && r.1 <= t);
+    (margin, t, disc > 1e-2 && !grazed)
+}
+
+#[test]
+fn scenes_of_balls_match_the_analytic_hits_with_and_without_specialisation() {
+    let (w, h) = (40, 32);
+    let view = View {
+        eye: DVec3::new(1.9, 1.4, 4.2),
+        look_at: DVec3::new(0.0, 0.0, -0.2),
+        up: DVec3::Y,
+        fov_deg: 40.0,
+        ortho: None,
+    };
+    let domain = Aabb::cube(1.3);
+    let cam = Camera::new(view, w, h);
+    for join in ["max", "|"] {
+        let (text, centres) = balls(12, join);
+        let model = Model::formula(&text, Some(domain)).unwrap();
+        for k in ArithKind::ALL {
+            let mut masks = Vec::new();
+            for specialise in [true, false] {
+                let mut o = RenderOptions::for_view(view, domain, w, h);
+                o.specialise = specialise;
+                o.eps = Some(1e-4);
+                let r = render_kind(k, &model.shape, &o).unwrap();
+                let prec = o.precision(&cam);
+                let mut analytic = 0;
+                for j in 0..h {
+                    for i in 0..w {
+                        let idx = (j * w + i) as usize;
+                        let (ro, rd) = cam.ray(i, j);
+                        let tag = format!("{join} {k} specialise={specialise} pixel ({i},{j})");
+                        let (margin, t_true, clean) = balls_hit(ro, rd, &centres);
+                        if margin > 1e-9 && clip(ro, rd, &domain, 0.0).is_some() {
+                            analytic += 1;
+                            assert!(r.hit[idx], "{tag}: analytic hit at {t_true} missed");
+                            if clean && k != ArithKind::Ia {
+                                let t = r.depth[idx] as f64;
+                                let tol = 2.0 * prec.at(t_true) + 1e-6 * t_true;
+                                assert!((t - t_true).abs() <= tol, "{tag}: {t} vs {t_true}");
+                            }
+                        }
+                        if r.hit[idx] {
+                            let p = ro + rd * r.depth[idx] as f64;
+                            let e = centres
+                                .iter()
+                                .map(|c| ((p - *c).length() - 0.2).abs())
+                                .fold(f64::INFINITY, f64::min);
+                            assert!(e <= 1e-3, "{tag}: hit {e} from every ball");
+                        }
+                    }
+                }
+                assert!(analytic > 50, "{join}: {analytic} analytic hits");
+                masks.push(r.hit);
+            }
+            assert_eq!(masks[0], masks[1], "{join} {k}: masks differ");
+        }
+    }
+}
+
+/// Every Appendix A model that has a formula, as a tape: the same hit mask with
+/// specialisation on and off, in RevAA and Hull.
+#[test]
+fn paper_formulas_hit_the_same_pixels_with_and_without_specialisation() {
+    let mut specialising = 0;
+    for m in PaperModel::ALL {
+        let Some(text) = m.formula() else { continue };
+        let base = m.model();
+        let model = Model::formula(text, Some(base.domain)).unwrap();
+        let tracer::models::AnyShape::Expr(tape) = &model.shape else {
+            unreachable!("a formula model is a tape")
+        };
+        specialising += usize::from(tape.specialises());
+        for k in [ArithKind::Revaa, ArithKind::Hull] {
+            let masks: Vec<Vec<bool>> = [true, false]
+                .into_iter()
+                .map(|on| {
+                    let mut o = RenderOptions::for_view(base.view, base.domain, 32, 24);
+                    o.specialise = on;
+                    render_kind(k, &model.shape, &o).unwrap().hit
+                })
+                .collect();
+            let diff: Vec<usize> = (0..masks[0].len())
+                .filter(|&i| masks[0][i] != masks[1][i])
+                .collect();
+            assert!(diff.is_empty(), "{} {k}: pixels {diff:?} differ", m.name());
+        }
+    }
+    assert!(
+        specialising >= 3,
+        "only {specialising} paper tapes specialise"
+    );
+}
