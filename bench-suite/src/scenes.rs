@@ -264,6 +264,7 @@ mod tests {
         assert!(pts.iter().all(|p| p.differ == 0), "{pts:?}");
         assert!(pts.iter().all(|p| p.evals[0] > 0 && p.evals[1] > 0));
         let md = markdown(&o, &pts);
-        assert_eq!(md.matches("\n|").count(), pts.len() + 1);
+        // The header, its rule and one line per point.
+        assert_eq!(md.matches("\n|").count(), pts.len() + 2);
     }
 }

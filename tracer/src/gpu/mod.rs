@@ -12,7 +12,6 @@ use crate::models::Model;
 use crate::render::shade::{self, Light};
 use crate::render::{RenderOptions, RenderResult, RenderStats};
 use crate::search::ray::clip;
-use crate::shape::check_domain;
 use glam::DVec3;
 use std::time::Instant;
 use tracer_gpu::{Bundle, Cells, Frame, Gpu, GpuArith, Program, Status, Tracer};
@@ -35,14 +34,8 @@ pub fn gpu_arith(kind: ArithKind) -> Result<GpuArith, String> {
 /// The frame of `opts` for the GPU: each pixel's `f64` ray clipped to the domain, the
 /// precision, and with culling one bundle per `CELL x CELL` cell.
 pub fn frame(opts: &RenderOptions) -> Result<(Frame, Camera), String> {
-    let cam = Camera::try_new(opts.view, opts.width, opts.height)?;
-    if let Some(e) = opts.eps {
-        if !(e > 0.0 && e.is_finite()) {
-            return Err(format!("precision {e} must be positive and finite"));
-        }
-    }
+    let cam = crate::render::checked_camera(opts)?;
     let dom = opts.domain;
-    check_domain(&dom).map_err(|e| format!("domain box: {e}"))?;
     let precision = opts.precision(&cam);
     let scale = (dom.max - dom.min).length();
     let mut rays = Vec::with_capacity((opts.width * opts.height) as usize);

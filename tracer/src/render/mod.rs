@@ -243,14 +243,8 @@ pub fn render<A: Arithmetic, S: Shape>(
     opts: &RenderOptions,
 ) -> Result<RenderResult, String> {
     let start = Instant::now();
-    let cam = Camera::try_new(opts.view, opts.width, opts.height)?;
-    if let Some(e) = opts.eps {
-        if !(e > 0.0 && e.is_finite()) {
-            return Err(format!("precision {e} must be positive and finite"));
-        }
-    }
+    let cam = checked_camera(opts)?;
     let dom = opts.domain;
-    check_domain(&dom).map_err(|e| format!("domain box: {e}"))?;
     let precision = opts.precision(&cam);
     let params = RayParams {
         precision,
@@ -355,6 +349,19 @@ pub fn render<A: Arithmetic, S: Shape>(
         hit,
         stats,
     })
+}
+
+/// The camera of `opts`, after checking its view, size, precision and domain (the
+/// errors every renderer gives before any work).
+pub(crate) fn checked_camera(opts: &RenderOptions) -> Result<Camera, String> {
+    let cam = Camera::try_new(opts.view, opts.width, opts.height)?;
+    if let Some(e) = opts.eps {
+        if !(e > 0.0 && e.is_finite()) {
+            return Err(format!("precision {e} must be positive and finite"));
+        }
+    }
+    check_domain(&opts.domain).map_err(|e| format!("domain box: {e}"))?;
+    Ok(cam)
 }
 
 /// [`render`] with the arithmetic chosen at run time.

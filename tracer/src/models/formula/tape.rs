@@ -349,31 +349,20 @@ impl Builder {
             return Val::C(fold_cmp(op, a, b));
         }
         let zero = matches!(r, Val::C(c) if c == 0.0);
+        // `<` and `>` are strict steps, `<=` and `>=` not.
+        let s = if matches!(op, BinOp::Lt | BinOp::Gt) {
+            Step::Pos
+        } else {
+            Step::NonNeg
+        };
         match op {
-            BinOp::Gt | BinOp::Ge if zero => {
-                let s = if op == BinOp::Gt {
-                    Step::Pos
-                } else {
-                    Step::NonNeg
-                };
-                self.step(s, l)
-            }
+            BinOp::Gt | BinOp::Ge if zero => self.step(s, l),
             BinOp::Lt | BinOp::Le => {
                 let d = self.binary(BinOp::Sub, r, l);
-                let s = if op == BinOp::Lt {
-                    Step::Pos
-                } else {
-                    Step::NonNeg
-                };
                 self.step(s, d)
             }
             BinOp::Gt | BinOp::Ge => {
                 let d = self.binary(BinOp::Sub, l, r);
-                let s = if op == BinOp::Gt {
-                    Step::Pos
-                } else {
-                    Step::NonNeg
-                };
                 self.step(s, d)
             }
             _ => {

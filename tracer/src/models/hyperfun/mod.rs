@@ -27,7 +27,7 @@
 //! let t = tracer::models::hyperfun::parse_hyperfun(src).unwrap();
 //! assert!(t.eval(-0.5_f64, -0.5, -0.5) > 0.0 && t.eval(0.5_f64, 0.5, 0.5) < 0.0);
 //! let e = tracer::models::hyperfun::parse_hyperfun("m(x[3], a[1]) { m = hfFoo(x); }").unwrap_err();
-//! assert_eq!((e.line, e.column), (1, 25));
+//! assert_eq!((e.line, e.column), (1, 21));
 //! ```
 
 pub mod compile;
