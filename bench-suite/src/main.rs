@@ -8,7 +8,8 @@
 //! bench-suite progressive [--size N] [--models a,b] [--layers L] [--rounds N]
 //!                         [--methods a,b] [--out DIR]
 //! bench-suite formulas [--formulas N] [--depth D] [--seed S] [--arith ...] [--out DIR]
-//! bench-suite scenes [--sizes 10,100,1000,10000] [--pixels N] [--rounds N] [--out DIR]
+//! bench-suite scenes [--sizes 10,100,1000,10000] [--pixels N] [--joins max,union]
+//!                     [--paper-pixels N] [--rounds N] [--budget SECONDS] [--out DIR]
 //! ```
 
 use bench_suite::{fig10, formulas, gm_study, progressive, scaling, scenes, table1, tightness};
@@ -179,7 +180,10 @@ enum Cmd {
         /// Image side of the scenes in pixels.
         #[arg(long, default_value_t = 1024)]
         pixels: u32,
-        /// Image side of the paper models in pixels.
+        /// Joins of the balls: max, union (R-function), or both.
+        #[arg(long, default_value = "max,union")]
+        joins: String,
+        /// Image side of the paper models in pixels (0: leave them out).
         #[arg(long, default_value_t = 320)]
         paper_pixels: u32,
         /// Arithmetic.
@@ -350,12 +354,21 @@ fn run(cli: Cli) -> Result<(), String> {
         Cmd::Scenes {
             sizes,
             pixels,
+            joins,
             paper_pixels,
             arith,
             rounds,
             budget: b,
             out,
         } => {
+            let joins = joins
+                .split(',')
+                .map(|t| match t.trim() {
+                    "max" => Ok(scenes::Join::Max),
+                    "union" => Ok(scenes::Join::RUnion),
+                    _ => Err(format!("--joins: '{t}' is not max or union")),
+                })
+                .collect::<Result<Vec<_>, _>>()?;
             let sizes = sizes
                 .split(',')
                 .map(|t| match t.trim().parse::<usize>() {
@@ -363,12 +376,13 @@ fn run(cli: Cli) -> Result<(), String> {
                     _ => Err(format!("--sizes: '{t}' is not a positive number of balls")),
                 })
                 .collect::<Result<Vec<_>, _>>()?;
-            if pixels == 0 || paper_pixels == 0 || rounds == 0 {
-                return Err("--pixels, --paper-pixels and --rounds must be positive".into());
+            if pixels == 0 || rounds == 0 {
+                return Err("--pixels and --rounds must be positive".into());
             }
             let o = scenes::Options {
                 sizes,
                 pixels,
+                joins,
                 paper_pixels,
                 kind: arith.parse()?,
                 rounds,

@@ -26,7 +26,9 @@ pub struct Options {
     pub sizes: Vec<usize>,
     /// Image side in pixels.
     pub pixels: u32,
-    /// Image side for the paper models.
+    /// How the balls are joined (each join runs every size).
+    pub joins: Vec<Join>,
+    /// Image side for the paper models (0: leave them out).
     pub paper_pixels: u32,
     /// The arithmetic.
     pub kind: ArithKind,
@@ -43,6 +45,7 @@ impl Default for Options {
         Options {
             sizes: vec![10, 100, 1000, 10000],
             pixels: 1024,
+            joins: vec![Join::Max, Join::RUnion],
             paper_pixels: 320,
             kind: ArithKind::Revaa,
             rounds: 3,
@@ -110,7 +113,8 @@ pub struct Point {
     pub hits: u64,
     /// Unconfirmed hits, off and on.
     pub unconfirmed: [u64; 2],
-    /// Pixels whose hit differs between off and on (0 expected; both uncut only).
+    /// Pixels whose hit differs between off and on (0 expected; counted only when
+    /// neither render was cut, "n/a" in the table otherwise).
     pub differ: usize,
 }
 
@@ -121,26 +125,27 @@ fn measure_model(name: &str, model: &Model, side: u32, o: &Options) -> Result<Po
     let mut times = [Vec::new(), Vec::new()];
     let mut last: [Option<RenderResult>; 2] = [None, None];
     for round in 0..o.rounds.max(1) {
-        // Alternate which goes first.
+        // Alternate which goes first; a configuration cut by the budget is not run again.
         let order = if round % 2 == 0 { [0, 1] } else { [1, 0] };
         for on in order {
+            if last[on].as_ref().is_some_and(|r| r.stats.cut) {
+                continue;
+            }
             let mut r = RenderOptions::for_view(model.view, model.domain, side, side);
             r.specialise = on == 1;
             r.deadline = Some(Instant::now() + o.budget);
             let res = render_kind(o.kind, &model.shape, &r)?;
             times[on].push(res.stats.wall.as_secs_f64());
-            let cut = res.stats.cut;
             last[on] = Some(res);
-            if cut {
-                break;
-            }
         }
     }
     let median = |v: &mut Vec<f64>| {
         v.sort_by(f64::total_cmp);
         v[v.len() / 2]
     };
-    let [off, on] = last.map(|r| r.expect("rendered at least once"));
+    let [Some(off), Some(on)] = last else {
+        return Err(format!("{name}: no render"));
+    };
     let differ = if off.stats.cut || on.stats.cut {
         0
     } else {
@@ -165,7 +170,7 @@ fn measure_model(name: &str, model: &Model, side: u32, o: &Options) -> Result<Po
 pub fn run(o: &Options, mut progress: impl FnMut(&Point)) -> Result<Vec<Point>, String> {
     let domain = Aabb::cube(1.0);
     let mut pts = Vec::new();
-    for join in [Join::Max, Join::RUnion] {
+    for &join in &o.joins {
         for &n in &o.sizes {
             let text = scene(n, join, o.seed);
             let model = Model::formula(&text, Some(domain))?;
@@ -178,12 +183,17 @@ pub fn run(o: &Options, mut progress: impl FnMut(&Point)) -> Result<Vec<Point>, 
             pts.push(p);
         }
     }
-    for m in [
-        PaperModel::Csg,
-        PaperModel::CsgBlendingPrinted,
-        PaperModel::Hair,
-        PaperModel::SphereMicrostructure,
-    ] {
+    let paper = if o.paper_pixels == 0 {
+        &[][..]
+    } else {
+        &[
+            PaperModel::Csg,
+            PaperModel::CsgBlendingPrinted,
+            PaperModel::Hair,
+            PaperModel::SphereMicrostructure,
+        ][..]
+    };
+    for &m in paper {
         let Some(text) = m.formula() else { continue };
         let base = m.model();
         let mut model = Model::formula(text, Some(base.domain))?;
@@ -231,7 +241,11 @@ pub fn markdown(o: &Options, pts: &[Point]) -> String {
             p.hits,
             p.unconfirmed[0],
             p.unconfirmed[1],
-            p.differ
+            if p.cut[0] || p.cut[1] {
+                "n/a".to_string()
+            } else {
+                p.differ.to_string()
+            }
         );
     }
     s
