@@ -20,7 +20,7 @@ cd "$(dirname "$0")/.."
 SIZE=${SIZE:-1024}
 ROUNDS=${ROUNDS:-3}
 MODELS_DIR=${MODELS_DIR:-bench-suite/peers/fidget/models}
-MODELS=${MODELS:-"bear:1:ia colonnade:1:revaa gyroid-sphere:1:revaa tanglecube:0.25:revaa"}
+MODELS=${MODELS:-"bear:1:hull colonnade:1:revaa gyroid-sphere:1:revaa tanglecube:0.25:revaa"}
 OUT_DIR=${OUT_DIR:-bench-out/peer-fidget}
 DOC=${DOC-docs/peers/fidget.md}
 PROBE_SIZE=${PROBE_SIZE:-128}
