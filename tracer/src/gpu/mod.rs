@@ -184,14 +184,6 @@ pub fn render_program(
             }
         }
     }
-    let hit = depth.iter().map(|d| d.is_finite()).collect();
     stats.wall = start.elapsed();
-    Ok(RenderResult {
-        width: opts.width,
-        height: opts.height,
-        rgb,
-        depth,
-        hit,
-        stats,
-    })
+    Ok(RenderResult::of_image(opts, rgb, depth, stats))
 }

@@ -230,6 +230,26 @@ pub struct RenderResult {
     pub stats: RenderStats,
 }
 
+impl RenderResult {
+    /// The result of an image of `opts`'s size: its hit mask is where `depth` is finite.
+    pub(crate) fn of_image(
+        opts: &RenderOptions,
+        rgb: Vec<u8>,
+        depth: Vec<f32>,
+        stats: RenderStats,
+    ) -> Self {
+        let hit = depth.iter().map(|d| d.is_finite()).collect();
+        RenderResult {
+            width: opts.width,
+            height: opts.height,
+            rgb,
+            depth,
+            hit,
+            stats,
+        }
+    }
+}
+
 struct TileOut {
     rgb: Vec<u8>,
     depth: Vec<f32>,
@@ -339,16 +359,8 @@ pub fn render<A: Arithmetic, S: Shape>(
         stats.unconfirmed += s.unconfirmed;
         stats.tiles_done += 1;
     }
-    let hit = depth.iter().map(|d| d.is_finite()).collect();
     stats.wall = start.elapsed();
-    Ok(RenderResult {
-        width: opts.width,
-        height: opts.height,
-        rgb,
-        depth,
-        hit,
-        stats,
-    })
+    Ok(RenderResult::of_image(opts, rgb, depth, stats))
 }
 
 /// The camera of `opts`, after checking its view, size, precision and domain (the

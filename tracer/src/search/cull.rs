@@ -468,7 +468,7 @@ impl Culler {
                     } else {
                         a + (b - a) * (i + 1) as f64 / k as f64
                     };
-                    self.region::<A::Cell>(bundle, (lo, hi))
+                    Some(self.region::<A::Cell>(bundle, (lo, hi))?.0)
                 })
                 .collect();
             if !regions.is_empty() {
@@ -502,10 +502,11 @@ impl Culler {
     }
 
     /// The inputs of a range over the bundle's points at the depths `s`: its frustum
-    /// form (arithmetics with symbols), or its box; `None` where they miss the domain.
-    fn region<R: Range>(&self, bundle: &Bundle, s: (f64, f64)) -> Option<[R; 3]> {
+    /// form (arithmetics with symbols), or its box; with the depths tightened to the
+    /// box; `None` where they miss the domain.
+    fn region<R: Range>(&self, bundle: &Bundle, s: (f64, f64)) -> Option<([R; 3], (f64, f64))> {
         let (b, t) = self.box_of((bundle.dmin, bundle.dmax), (bundle.omin, bundle.omax), s)?;
-        Some(if R::INPUTS >= 3 {
+        let forms = if R::INPUTS >= 3 {
             self.frustum::<R>(bundle, t.0, t.1)
         } else {
             [
@@ -513,7 +514,8 @@ impl Culler {
                 R::input(1, b.min.y, b.max.y),
                 R::input(2, b.min.z, b.max.z),
             ]
-        })
+        };
+        Some((forms, t))
     }
 
     /// Queues the cell `rect` for its narrowing, or, when it is too small to be tested,
@@ -799,24 +801,12 @@ impl<R: Range> Narrowing<R> {
             }
             self.budget -= 1;
             stats.cells_tested += 1;
-            let Some((b, t)) = c.box_of(
-                (bundle.dmin, bundle.dmax),
-                (bundle.omin, bundle.omax),
-                self.cur,
-            ) else {
+            let Some((forms, t)) = c.region::<R>(bundle, self.cur) else {
                 kept = Some(None);
                 continue;
             };
             self.t = t;
-            return Step::Eval(if R::INPUTS >= 3 {
-                c.frustum::<R>(bundle, t.0, t.1)
-            } else {
-                [
-                    R::input(0, b.min.x, b.max.x),
-                    R::input(1, b.min.y, b.max.y),
-                    R::input(2, b.min.z, b.max.z),
-                ]
-            });
+            return Step::Eval(forms);
         }
     }
 
