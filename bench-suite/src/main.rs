@@ -389,6 +389,13 @@ fn run(cli: Cli) -> Result<(), String> {
                 budget: budget(b)?,
                 ..Default::default()
             };
+            // The scenes as files first, to render them alone (`tracer render FILE`).
+            for &join in &o.joins {
+                for &n in &o.sizes {
+                    let name = format!("scene-{n}-{}.expr", join.name());
+                    write_out(&out, &name, &scenes::scene_file(n, join, o.seed))?;
+                }
+            }
             let pts = scenes::run(&o, |p| {
                 eprintln!("{}: {:.3} s off, {:.3} s on", p.name, p.secs[0], p.secs[1])
             })?;

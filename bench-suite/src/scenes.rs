@@ -64,6 +64,16 @@ pub enum Join {
     RUnion,
 }
 
+impl Join {
+    /// Its name in `--joins` and in file names.
+    pub fn name(self) -> &'static str {
+        match self {
+            Join::Max => "max",
+            Join::RUnion => "union",
+        }
+    }
+}
+
 /// The formula of `n` balls joined by `join` (see the module doc).
 pub fn scene(n: usize, join: Join, seed: u64) -> String {
     let mut rng = SplitMix64(seed);
@@ -92,6 +102,16 @@ pub fn scene(n: usize, join: Join, seed: u64) -> String {
         }
     }
     tree(&terms, join)
+}
+
+/// [`scene`] as a formula file (`.expr`) that renders as the study does, its domain
+/// in the header.
+pub fn scene_file(n: usize, join: Join, seed: u64) -> String {
+    format!(
+        "# {n} balls joined by {}, seed {seed} (bench-suite scenes)\n# domain: -1,-1,-1,1,1,1\n{}\n",
+        join.name(),
+        scene(n, join, seed)
+    )
 }
 
 /// One configuration's medians.

@@ -50,6 +50,42 @@ pub trait Shape: Send + Sync {
         let _ = regions;
         None
     }
+
+    /// [`Shape::specialise`] for several unions of regions at once: `groups[g] = (i, j)`
+    /// is the union of `regions[i..j]`. Gives the distinct shapes built and, per group,
+    /// the index of its shape among them (`None`: this shape unchanged). An
+    /// implementation evaluates each region once and lets groups with the same outcome
+    /// share a shape; this default specialises group by group.
+    fn specialise_groups<R: Range>(
+        &self,
+        regions: &[[R; 3]],
+        groups: &[(usize, usize)],
+    ) -> (Vec<Self>, Vec<Option<usize>>)
+    where
+        Self: Sized,
+    {
+        let mut shapes = Vec::new();
+        let which = groups
+            .iter()
+            .map(|&(i, j)| {
+                let s = self.specialise(regions.get(i..j)?)?;
+                shapes.push(s);
+                Some(shapes.len() - 1)
+            })
+            .collect();
+        (shapes, which)
+    }
+
+    /// A shape with the same *value* as this one at every point of the region that the
+    /// ranges `[x, y, z]` enclose (not only the same sign), and cheaper to evaluate:
+    /// fit for shading there. `None` where there is none (the default).
+    fn specialise_values<R: Range>(&self, region: &[R; 3]) -> Option<Self>
+    where
+        Self: Sized,
+    {
+        let _ = region;
+        None
+    }
 }
 
 /// An axis-aligned box.

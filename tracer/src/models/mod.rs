@@ -81,6 +81,27 @@ impl Shape for AnyShape {
             _ => None,
         }
     }
+
+    fn specialise_groups<R: arith_core::Range>(
+        &self,
+        regions: &[[R; 3]],
+        groups: &[(usize, usize)],
+    ) -> (Vec<Self>, Vec<Option<usize>>) {
+        match self {
+            AnyShape::Expr(t) => {
+                let (tapes, which) = t.specialise_groups(regions, groups);
+                (tapes.into_iter().map(AnyShape::Expr).collect(), which)
+            }
+            _ => (Vec::new(), vec![None; groups.len()]),
+        }
+    }
+
+    fn specialise_values<R: arith_core::Range>(&self, region: &[R; 3]) -> Option<Self> {
+        match self {
+            AnyShape::Expr(t) => t.specialise_values(region).map(AnyShape::Expr),
+            _ => None,
+        }
+    }
 }
 
 /// A shape with everything needed to render it without further flags.

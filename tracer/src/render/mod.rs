@@ -15,8 +15,10 @@ use crate::search::cull::{CullStats, Culler};
 use crate::search::ray::{
     clip, clip_with, first_root, first_roots, Precision, RayJob, RayParams, RayStats, Start,
 };
+use crate::search::windows::Windows;
 use crate::shape::{check_domain, Aabb, Shape, View};
-use arith_core::Arithmetic;
+use arith_core::{Arithmetic, Range};
+use arith_ia::Interval;
 use glam::DVec3;
 use rayon::prelude::*;
 use shade::{Light, Material};
@@ -271,8 +273,8 @@ pub fn render<A: Arithmetic, S: Shape>(
         pruning: opts.pruning,
     };
     let light = Light::for_camera(&cam);
-    let culler = Culler::new(&cam, &dom).specialising(opts.specialise);
     let scale = (dom.max - dom.min).length();
+    let culler = Culler::new(&cam, &dom).specialising(opts.specialise);
     let tile = opts.tile.max(1);
     let mut tiles = Vec::new();
     for j0 in (0..opts.height).step_by(tile as usize) {
@@ -376,6 +378,20 @@ pub(crate) fn checked_camera(opts: &RenderOptions) -> Result<Camera, String> {
     Ok(cam)
 }
 
+/// The least step of the normals' central differences, per unit of the domain's
+/// diagonal (the step is otherwise the precision at the hit).
+const SHADING_STEP: f64 = 1e-7;
+
+/// Hits shaded with one shape specialised to the box of their samples: more share one
+/// evaluation of the whole shape over the box, fewer make the box (and the shape) small.
+const SHADE_GROUP: usize = 16;
+
+/// Hits whose shape for shading is specialised once, for their groups to start from.
+const SHADE_BLOCK: usize = 256;
+
+/// The widest box (in sample steps) a group of hits is shaded in.
+const SHADE_BOX: f64 = 16.0;
+
 /// [`render`] with the arithmetic chosen at run time.
 pub fn render_kind<S: Shape>(
     kind: ArithKind,
@@ -404,11 +420,11 @@ fn render_tile<A: Arithmetic, S: Shape>(
     let mut st = RenderStats::default();
     // Rays are collected first (pixel, culling's depths), set up four at a time
     // ([`Camera::rays4`]), then searched four at a time ([`first_roots`]).
-    // Each ray's shape: 0 the whole one, `k` the cell's specialised `locals[k - 1]`
+    // Each ray's shape: 0 the whole one, `k` its cell's depth windows `locals[k - 1]`
     // (rays come cell by cell, so a new one is pushed only when the cell's changes).
     let mut pending: Vec<(u32, u32, Start, u32)> = Vec::with_capacity(n);
-    let mut locals: Vec<Arc<S>> = Vec::new();
-    let mut trace = |i: u32, j: u32, depths: Start, local: Option<&Arc<S>>| {
+    let mut locals: Vec<Arc<Windows<S>>> = Vec::new();
+    let mut trace = |i: u32, j: u32, depths: Start, local: Option<&Arc<Windows<S>>>| {
         let k = match local {
             None => 0,
             Some(l) => {
@@ -430,9 +446,7 @@ fn render_tile<A: Arithmetic, S: Shape>(
             }
         }
     }
-    let shapes: Vec<&S> = std::iter::once(shape)
-        .chain(locals.iter().map(|l| &**l))
-        .collect();
+    let windows: Vec<&Windows<S>> = locals.iter().map(|l| &**l).collect();
     st.rays += pending.len() as u64;
     let mut jobs: Vec<RayJob> = Vec::with_capacity(pending.len());
     let mut pixel_of: Vec<usize> = Vec::with_capacity(pending.len());
@@ -444,43 +458,107 @@ fn render_tile<A: Arithmetic, S: Shape>(
         for (&(i, j, depths, local), &(d, inv, c, ic)) in chunk.iter().zip(&set) {
             let o = cam.origin_at(i as f64 + 0.5, j as f64 + 0.5);
             if let Some((start, windowed)) = start_of(o, d, inv, c, ic, depths, &opts.domain) {
-                // A specialised shape holds only in its cell's depth window.
+                // A specialised shape holds only in its cell's depth windows.
                 let shape = if windowed { local } else { 0 };
-                jobs.push(RayJob { o, d, start, shape });
+                jobs.push(RayJob {
+                    o,
+                    d,
+                    start,
+                    shape,
+                    depth: c,
+                });
                 pixel_of.push((j - j0) as usize * tw + (i - i0) as usize);
             }
         }
     }
-    let lens: Vec<u64> = shapes
-        .iter()
-        .map(|s| s.tape_len().unwrap_or(0) as u64)
-        .collect();
-    first_roots::<A, S>(&shapes, params, &jobs, |ray, hit, rs| {
+    let mut hits: Vec<(usize, f64)> = Vec::new();
+    first_roots::<A, S>(shape, &windows, params, &jobs, |ray, hit, rs| {
         st.range_evals += rs.range_evals;
-        st.range_ops += rs.range_evals * lens[jobs[ray].shape as usize];
+        st.range_ops += rs.range_ops;
         st.pruned_empty += rs.pruned_empty;
         st.point_evals += rs.point_evals;
-        let Some(t) = hit else {
-            return;
-        };
-        let (k, RayJob { o, d, .. }) = (pixel_of[ray], jobs[ray]);
-        st.hits += 1;
-        st.range_evals_hit += rs.range_evals;
-        depth[k] = t as f32;
-        let p = o + d * t;
-        let step = params.precision.at(t).max(scale * 1e-7);
-        let (n, confirmed) = shade::normal_and_sign_change(shape, p, step);
-        if !confirmed {
-            st.unconfirmed += 1;
+        if let Some(t) = hit {
+            st.hits += 1;
+            st.range_evals_hit += rs.range_evals;
+            hits.push((ray, t));
         }
-        st.point_evals += 6;
-        let mut in_shadow = false;
-        if opts.shadows {
-            in_shadow = shadowed::<A, S>(shape, p, n, light, opts, params, scale, step, &mut st);
-        }
-        let c = shade::shade(n, d, light, &opts.material, in_shadow);
-        rgb[k * 3..k * 3 + 3].copy_from_slice(&c);
     });
+    // Shading, in groups of neighbouring hits (rays come cell by cell): each group's
+    // normals from the shape specialised to the box of all their samples, with the
+    // whole shape's values there.
+    hits.sort_unstable_by_key(|h| h.0);
+    let by_values = opts.specialise && shape.specialises();
+    let sample_at = |&(ray, t): &(usize, f64)| {
+        let RayJob { o, d, .. } = jobs[ray];
+        (o + d * t, params.precision.at(t).max(scale * SHADING_STEP))
+    };
+    let boxed = |at: &mut dyn Iterator<Item = (DVec3, f64)>| {
+        let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        for (p, h) in at {
+            for q in shade::samples(p, h) {
+                lo = lo.min(q);
+                hi = hi.max(q);
+            }
+        }
+        let i = |k: usize| Interval::from_interval(lo[k], hi[k]);
+        [i(0), i(1), i(2)]
+    };
+    for block in hits.chunks(SHADE_BLOCK) {
+        // The block's shape first (over the box of all its samples), each group's from it.
+        let block_shape = if by_values {
+            st.range_ops += shape.tape_len().unwrap_or(0) as u64;
+            shape.specialise_values(&boxed(&mut block.iter().map(sample_at)))
+        } else {
+            None
+        };
+        let base = block_shape.as_ref().unwrap_or(shape);
+        let mut rest = block;
+        while !rest.is_empty() {
+            // A group: up to SHADE_GROUP hits whose samples fit in a box a few steps wide
+            // (a depth jump starts a new one).
+            let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+            let mut at: Vec<(DVec3, f64)> = Vec::with_capacity(SHADE_GROUP);
+            for hit in rest.iter().take(SHADE_GROUP) {
+                let (p, h) = sample_at(hit);
+                let (mut l, mut u) = (lo, hi);
+                for q in shade::samples(p, h) {
+                    l = l.min(q);
+                    u = u.max(q);
+                }
+                if !at.is_empty() && (u - l).max_element() > SHADE_BOX * h {
+                    break;
+                }
+                (lo, hi) = (l, u);
+                at.push((p, h));
+            }
+            let (group, next) = rest.split_at(at.len());
+            rest = next;
+            let local = if by_values {
+                st.range_ops += base.tape_len().unwrap_or(0) as u64;
+                let i = |k: usize| Interval::from_interval(lo[k], hi[k]);
+                base.specialise_values(&[i(0), i(1), i(2)])
+            } else {
+                None
+            };
+            let values = local.as_ref().unwrap_or(base);
+            for (&(ray, t), &(p, step)) in group.iter().zip(&at) {
+                let (k, d) = (pixel_of[ray], jobs[ray].d);
+                depth[k] = t as f32;
+                let (n, confirmed) = shade::normal_and_sign_change(values, p, step);
+                if !confirmed {
+                    st.unconfirmed += 1;
+                }
+                st.point_evals += 6;
+                let mut in_shadow = false;
+                if opts.shadows {
+                    in_shadow =
+                        shadowed::<A, S>(shape, p, n, light, opts, params, scale, step, &mut st);
+                }
+                let c = shade::shade(n, d, light, &opts.material, in_shadow);
+                rgb[k * 3..k * 3 + 3].copy_from_slice(&c);
+            }
+        }
+    }
     st.cell_evals = cs.cells_tested + cs.cells_specialised;
     st.range_ops += cs.cell_ops;
     st.cells_culled = cs.cells_culled;

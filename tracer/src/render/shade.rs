@@ -59,6 +59,19 @@ pub fn normal<S: Shape + ?Sized>(shape: &S, p: DVec3, h: f64) -> Option<DVec3> {
     normal_and_sign_change(shape, p, h).0
 }
 
+/// The six points `p ± h e_k` where [`normal_and_sign_change`] samples the shape.
+#[inline]
+pub fn samples(p: DVec3, h: f64) -> [DVec3; 6] {
+    [
+        p + DVec3::X * h,
+        p - DVec3::X * h,
+        p + DVec3::Y * h,
+        p - DVec3::Y * h,
+        p + DVec3::Z * h,
+        p - DVec3::Z * h,
+    ]
+}
+
 /// [`normal`], and whether its six samples `f(p ± h e_k)` hold a sign change (some
 /// `<= 0` and some `>= 0`, none NaN): then `f` has a root within `h` of `p` on an axis
 /// segment through it, since `f` is continuous.
@@ -67,15 +80,7 @@ pub fn normal_and_sign_change<S: Shape + ?Sized>(
     p: DVec3,
     h: f64,
 ) -> (Option<DVec3>, bool) {
-    let f = |q: DVec3| shape.eval::<f64>(q.x, q.y, q.z);
-    let s = [
-        f(p + DVec3::X * h),
-        f(p - DVec3::X * h),
-        f(p + DVec3::Y * h),
-        f(p - DVec3::Y * h),
-        f(p + DVec3::Z * h),
-        f(p - DVec3::Z * h),
-    ];
+    let s = samples(p, h).map(|q| shape.eval::<f64>(q.x, q.y, q.z));
     let g = DVec3::new(s[0] - s[1], s[2] - s[3], s[4] - s[5]);
     let changes =
         s.iter().any(|&v| v <= 0.0) && s.iter().any(|&v| v >= 0.0) && !s.iter().any(|v| v.is_nan());

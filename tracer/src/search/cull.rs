@@ -15,6 +15,7 @@
 
 use crate::camera::Camera;
 use crate::search::ray::{Pruner, Start};
+use crate::search::windows::Windows;
 use crate::shape::{Aabb, Shape};
 use arith_core::pack::{Pack, LANES};
 use arith_core::round::{up_finite, ETA, U};
@@ -156,9 +157,10 @@ pub struct Culler {
 const NARROW_BUDGET: u32 = 48;
 /// Depth of the narrowing stack.
 const NARROW_STACK: usize = 48;
-/// Slices of depth a cell's region is specialised over: the hull of their ranges is far
-/// tighter than one range over the whole depth (a quadratic's affine error grows with
-/// the square of the slice's depth).
+/// Slices of depth a cell's region is specialised over (a power of two): each gets a
+/// window of its own ([`Windows`]), and the hull of their ranges is far tighter than
+/// one range over the whole depth (a quadratic's affine error grows with the square of
+/// the slice's depth).
 const SPECIALISE_SLICES: usize = 8;
 
 impl Culler {
@@ -330,7 +332,11 @@ impl Culler {
     /// range; one by one for a shape that does not [pack](Shape::packs)), and a finished narrowing's slot takes the next cell. A cell depends only on
     /// its parent's narrowing, so the cells dropped and the depths handed to rays are
     /// those of a depth-first visit; only the order in which rays are handed out differs.
-    pub fn traverse<A: Arithmetic, S: Shape, F: FnMut(u32, u32, Start, Option<&Arc<S>>)>(
+    pub fn traverse<
+        A: Arithmetic,
+        S: Shape,
+        F: FnMut(u32, u32, Start, Option<&Arc<Windows<S>>>),
+    >(
         &self,
         shape: &S,
         rect: (u32, u32, u32, u32),
@@ -375,8 +381,12 @@ impl Culler {
                 return;
             };
             let shape_of = |k: usize| -> Option<&S> {
-                let cell = &slots[k].as_ref()?.cell;
-                Some(cell.shape.as_deref().unwrap_or(shape))
+                let slot = slots[k].as_ref()?;
+                let (t0, t1) = slot.narrowing.t;
+                Some(match &slot.cell.shape {
+                    Some(w) => w.at(shape, t0, t1),
+                    None => shape,
+                })
             };
             // One packed evaluation needs one shape for all lanes: the cells' own
             // (siblings share their parent's), or each cell alone.
@@ -431,7 +441,7 @@ impl Culler {
     /// the cell's bundle at the depths left to them, widened by twice the margin
     /// (rays search up to one margin beyond).
     #[allow(clippy::too_many_arguments)]
-    fn narrowed<A: Arithmetic, S: Shape, F: FnMut(u32, u32, Start, Option<&Arc<S>>)>(
+    fn narrowed<A: Arithmetic, S: Shape, F: FnMut(u32, u32, Start, Option<&Arc<Windows<S>>>)>(
         &self,
         root: &S,
         specialise: bool,
@@ -453,31 +463,23 @@ impl Culler {
         let s = (first, cell.s_range.1);
         let mut local = cell.shape;
         if specialise {
-            let m = 2.0 * self.margin;
-            let (a, b) = (s.0 - m, s.1 + m);
-            let k = SPECIALISE_SLICES;
-            let regions: Vec<[A::Cell; 3]> = (0..k)
-                .filter_map(|i| {
-                    let lo = if i == 0 {
-                        a
-                    } else {
-                        a + (b - a) * i as f64 / k as f64
-                    };
-                    let hi = if i + 1 == k {
-                        b
-                    } else {
-                        a + (b - a) * (i + 1) as f64 / k as f64
-                    };
-                    Some(self.region::<A::Cell>(bundle, (lo, hi))?.0)
-                })
-                .collect();
-            if !regions.is_empty() {
-                let current = local.as_deref().unwrap_or(root);
-                stats.cells_specialised += regions.len() as u64;
-                stats.cell_ops += (regions.len() * current.tape_len().unwrap_or(0)) as u64;
-                if let Some(t) = current.specialise(&regions) {
-                    local = Some(Arc::new(t));
-                }
+            // Segments stay a margin inside the region (rays search up to one margin
+            // beyond the depths handed out), and windows half a margin inside theirs.
+            let m = self.margin;
+            let base = local.as_ref().and_then(|w| w.whole());
+            let built = Windows::build::<A::Cell>(
+                root,
+                base,
+                (s.0 - 2.0 * m, s.1 + 2.0 * m),
+                SPECIALISE_SLICES,
+                0.5 * m,
+                |lo, hi| Some(self.region::<A::Cell>(bundle, (lo, hi))?.0),
+            );
+            if let Some((windows, evaluated)) = built {
+                let current = base.map_or(root, |b| &**b);
+                stats.cells_specialised += evaluated as u64;
+                stats.cell_ops += (evaluated * current.tape_len().unwrap_or(0)) as u64;
+                local = Some(Arc::new(windows));
             }
         }
         let plain = Start {
@@ -522,13 +524,13 @@ impl Culler {
     /// hands out its rays (each started from its own share of the parent's form where
     /// there is one).
     #[allow(clippy::too_many_arguments)]
-    fn enqueue<S, F: FnMut(u32, u32, Start, Option<&Arc<S>>)>(
+    fn enqueue<S, F: FnMut(u32, u32, Start, Option<&Arc<Windows<S>>>)>(
         &self,
         rect: (u32, u32, u32, u32),
         s_range: (f64, f64),
         start: Start,
         parent: Option<(&Bundle, &Fit)>,
-        shape: Option<Arc<S>>,
+        shape: Option<Arc<Windows<S>>>,
         todo: &mut Vec<Cell<S>>,
         trace: &mut F,
     ) {
@@ -686,7 +688,7 @@ struct Cell<S> {
     rect: (u32, u32, u32, u32),
     s_range: (f64, f64),
     start: Start,
-    shape: Option<Arc<S>>,
+    shape: Option<Arc<Windows<S>>>,
 }
 
 /// The next step of a [`Narrowing`].

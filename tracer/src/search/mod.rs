@@ -4,10 +4,12 @@
 //! pruning), [`cull`] its Algorithm 2 (cell culling in frustum form), [`lipschitz`] the
 //! progressive-refinement paper's Lipschitz ray casters and automatic Lipschitz bounds,
 //! [`cone`] that paper's Lipschitz cone tracing (eqs. 3-6, Fig. 3), [`cone_range`] the
-//! same cones tested with a range arithmetic over their frustum instead.
+//! same cones tested with a range arithmetic over their frustum instead; [`windows`]
+//! holds a cell's shape specialised to slices of its depths.
 
 pub mod cone;
 pub mod cone_range;
 pub mod cull;
 pub mod lipschitz;
 pub mod ray;
+pub mod windows;

@@ -7,6 +7,7 @@
 //! from it (sign-change shortcut, marching from the cell's slice) and their measured effect
 //! are in `docs/algorithm-1-ray.md`.
 
+use crate::search::windows::Windows;
 use crate::shape::{Aabb, Shape};
 use arith_core::pack::{Pack, LANES};
 use arith_core::round::ETA;
@@ -53,6 +54,9 @@ pub struct RayStats {
     pub pruned_empty: u64,
     /// Point evaluations (sign checks at the ends of resolved segments).
     pub point_evals: u64,
+    /// Instructions run by the range evaluations, for shapes that are tapes
+    /// ([`Shape::tape_len`]; counted by [`first_roots`]).
+    pub range_ops: u64,
 }
 
 impl std::ops::AddAssign for RayStats {
@@ -60,6 +64,7 @@ impl std::ops::AddAssign for RayStats {
         self.range_evals += o.range_evals;
         self.pruned_empty += o.pruned_empty;
         self.point_evals += o.point_evals;
+        self.range_ops += o.range_ops;
     }
 }
 
@@ -317,6 +322,8 @@ pub fn first_root<A: Arithmetic, S: Shape + ?Sized>(
 ) -> Option<f64> {
     let ray = RayCtx {
         shape,
+        windows: None,
+        depth: 1.0,
         o,
         d,
         params,
@@ -340,12 +347,27 @@ pub fn first_root<A: Arithmetic, S: Shape + ?Sized>(
 pub struct RayCtx<'a, S: ?Sized> {
     /// The shape.
     pub shape: &'a S,
+    /// The shape specialised to depth windows along the ray, where there are some.
+    pub windows: Option<&'a Windows<S>>,
+    /// The depth the windows are in per unit of `t`.
+    pub depth: f64,
     /// The ray's origin.
     pub o: DVec3,
     /// The ray's direction.
     pub d: DVec3,
     /// The search options.
     pub params: &'a RayParams,
+}
+
+impl<'a, S: ?Sized> RayCtx<'a, S> {
+    /// The shape to use on the segment `[a, b]` of the ray (`a <= b`).
+    #[inline]
+    pub fn shape_on(&self, a: f64, b: f64) -> &'a S {
+        match self.windows {
+            Some(w) => w.at(self.shape, a * self.depth, b * self.depth),
+            None => self.shape,
+        }
+    }
 }
 
 /// The next step of a [`RaySearch`].
@@ -416,8 +438,8 @@ impl RaySearch {
             if split - t0 <= SHORT_PIECES * eps {
                 let c = (t0 + eps).min(split);
                 stats.point_evals += 2;
-                let fa: f64 = point_on_ray(ray.shape, ray.o, ray.d, t0);
-                let fc: f64 = point_on_ray(ray.shape, ray.o, ray.d, c);
+                let fa: f64 = point_on_ray(ray.shape_on(t0, t0), ray.o, ray.d, t0);
+                let fc: f64 = point_on_ray(ray.shape_on(c, c), ray.o, ray.d, c);
                 if opposite(fa, fc) && c > t0 {
                     return (s, Next::Done(Some(0.5 * t0 + 0.5 * c)));
                 }
@@ -435,7 +457,8 @@ impl RaySearch {
         stats: &mut RayStats,
         stack: &mut Vec<(f64, f64)>,
     ) -> Next {
-        let (shape, o, d, params) = (ray.shape, ray.o, ray.d, ray.params);
+        let (o, d, params) = (ray.o, ray.d, ray.params);
+        let at = |t: f64| point_on_ray(ray.shape_on(t, t), o, d, t);
         let (mut a, mut b, t1) = (self.a, self.b, self.t1);
         stats.range_evals += 1;
         let mut keep = f.contains_zero();
@@ -473,15 +496,14 @@ impl RaySearch {
                 // (an overestimated range just before a crossing, common with IA): then
                 // `b` is within one segment of the first root, report it.
                 stats.point_evals += 2;
-                let fa: f64 = point_on_ray(shape, o, d, a);
-                let fb: f64 = point_on_ray(shape, o, d, b);
+                let (fa, fb) = (at(a), at(b));
                 if opposite(fa, fb) {
                     true
                 } else {
                     let c = (b + (b - a)).min(t1);
                     if c > b {
                         stats.point_evals += 1;
-                        if opposite(fb, point_on_ray(shape, o, d, c)) {
+                        if opposite(fb, at(c)) {
                             return Next::Done(Some(b));
                         }
                     }
@@ -532,9 +554,11 @@ pub struct RayJob {
     pub d: DVec3,
     /// Where its search starts.
     pub start: Start,
-    /// Its shape: an index into the shapes given to [`first_roots`] (a cell's
-    /// specialised shape, valid on this ray's segment, or the whole shape).
+    /// Its shape: `0` the whole one, `k` the depth windows `windows[k - 1]` given to
+    /// [`first_roots`] (a cell's, valid on this ray's segment).
     pub shape: u32,
+    /// The depth (that the windows are in) per unit of `t`.
+    pub depth: f64,
 }
 
 /// [`first_root`] for many rays, four at a time: each step evaluates the
@@ -543,10 +567,12 @@ pub struct RayJob {
 /// [pack](Shape::packs)), and a finished search's slot
 /// takes the next ray. Calls `done(index, first root, counters)` once per ray, in the
 /// order the rays finish. The roots are those of [`first_root`], ray by ray:
-/// each lane of a pack is the scalar ray form's range. Each ray is searched with its
-/// own shape, `shapes[ray.shape]`; lanes are packed when they share one.
+/// each lane of a pack is the scalar ray form's range. Each segment is evaluated with
+/// its ray's shape: `shape`, or the narrowest of its windows (`windows[ray.shape - 1]`)
+/// that holds the segment; lanes are packed when they evaluate the same shape.
 pub fn first_roots<A: Arithmetic, S: Shape + ?Sized>(
-    shapes: &[&S],
+    shape: &S,
+    windows: &[&Windows<S>],
     params: &RayParams,
     rays: &[RayJob],
     mut done: impl FnMut(usize, Option<f64>, RayStats),
@@ -558,7 +584,9 @@ pub fn first_roots<A: Arithmetic, S: Shape + ?Sized>(
         stats: RayStats,
     }
     let ctx = |r: &RayJob| RayCtx {
-        shape: shapes[r.shape as usize],
+        shape,
+        windows: r.shape.checked_sub(1).map(|k| windows[k as usize]),
+        depth: r.depth,
         o: r.o,
         d: r.d,
         params,
@@ -590,9 +618,15 @@ pub fn first_roots<A: Arithmetic, S: Shape + ?Sized>(
             return;
         };
         let alone = slots.iter().flatten().count() == 1;
-        let lead = rays[slots[first].as_ref().map_or(0, |s| s.ray)].shape;
-        let shared = slots.iter().flatten().all(|s| rays[s.ray].shape == lead);
-        let shape = shapes[lead as usize];
+        let shapes: [Option<&S>; LANES] = core::array::from_fn(|k| {
+            let s = slots[k].as_ref()?;
+            Some(ctx(&rays[s.ray]).shape_on(s.seg.0, s.seg.1))
+        });
+        let lead = shapes[first].expect("an active slot");
+        let shared = shapes
+            .iter()
+            .flatten()
+            .all(|s| core::ptr::addr_eq(*s, lead));
         // Lanes without a search repeat the first one's segment (their results are
         // dropped).
         let seg_of = |k: usize| {
@@ -601,11 +635,11 @@ pub fn first_roots<A: Arithmetic, S: Shape + ?Sized>(
                 .or(slots[first].as_ref())
                 .map(|s| (&rays[s.ray], s.seg))
         };
-        let ranges: [Option<A::Ray>; LANES] = if alone || !shared || !shape.packs() {
+        let ranges: [Option<A::Ray>; LANES] = if alone || !shared || !lead.packs() {
             core::array::from_fn(|k| {
                 let s = slots[k].as_ref()?;
                 let (r, (a, b)) = (&rays[s.ray], s.seg);
-                Some(range_on_segment(shapes[r.shape as usize], r.o, r.d, a, b))
+                Some(range_on_segment(shapes[k]?, r.o, r.d, a, b))
             })
         } else {
             // `ray_inputs` lane by lane: `t d + o`.
@@ -616,12 +650,13 @@ pub fn first_roots<A: Arithmetic, S: Shape + ?Sized>(
                 t.clone()
                     .mul_add_lanes(lanes.map(|(r, _)| r.d[i]), lanes.map(|(r, _)| r.o[i]))
             });
-            shape.eval(x, y, z).unpack().map(Some)
+            lead.eval(x, y, z).unpack().map(Some)
         };
         for (k, f) in ranges.iter().enumerate() {
             let (Some(s), Some(f)) = (slots[k].as_mut(), f) else {
                 continue;
             };
+            s.stats.range_ops += shapes[k].and_then(Shape::tape_len).unwrap_or(0) as u64;
             match s
                 .search
                 .feed(f, &ctx(&rays[s.ray]), &mut s.stats, &mut stacks[k])
@@ -735,13 +770,14 @@ mod tests {
                     d,
                     start,
                     shape: 0,
+                    depth: 1.0,
                 });
             }
             assert!(jobs.len() >= 9, "{}: {} rays", m.name, jobs.len());
             for kind in crate::arith::ArithKind::ALL {
                 crate::with_arith!(kind, A => {
                     let mut got = vec![None; jobs.len()];
-                    first_roots::<A, _>(&[&m], &params, &jobs, |k, hit, st| {
+                    first_roots::<A, _>(&m, &[], &params, &jobs, |k, hit, st| {
                         assert!(got[k].is_none(), "ray {k} reported twice");
                         got[k] = Some((hit, st));
                     });

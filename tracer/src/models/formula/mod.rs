@@ -112,4 +112,16 @@ impl Shape for Tape {
     fn specialise<R: arith_core::Range>(&self, regions: &[[R; 3]]) -> Option<Self> {
         Tape::specialise(self, regions)
     }
+
+    fn specialise_groups<R: arith_core::Range>(
+        &self,
+        regions: &[[R; 3]],
+        groups: &[(usize, usize)],
+    ) -> (Vec<Self>, Vec<Option<usize>>) {
+        Tape::specialise_groups(self, regions, groups)
+    }
+
+    fn specialise_values<R: arith_core::Range>(&self, region: &[R; 3]) -> Option<Self> {
+        Tape::specialise_values(self, region)
+    }
 }

@@ -117,15 +117,16 @@ impl Specialiser {
         }
     }
 
-    /// The decision for each register, from the bounds of the watched ones.
-    fn decide(&self, ins: &[Instr], bounds: &[(f64, f64)]) -> Vec<u8> {
+    /// The decision for each register, from the bounds of the watched ones; without
+    /// `by_sign`, the exact rule only.
+    fn decide(&self, ins: &[Instr], bounds: &[(f64, f64)], by_sign: bool) -> Vec<u8> {
         ins.iter()
             .enumerate()
             .map(|(k, i)| {
                 let (lo, hi) = bounds[k];
                 // A constant keeps its own value (and the result deciding alone means
                 // no root at all: nothing to shorten, but harmless).
-                if self.sign_only[k] && i.op != Op::Const {
+                if by_sign && self.sign_only[k] && i.op != Op::Const {
                     if lo > 0.0 {
                         return POS;
                     }
@@ -186,59 +187,118 @@ impl Tape {
     /// assert_eq!(s.to_formula(), "0.25 - x^2 - y^2 - z^2");
     /// ```
     pub fn specialise<R: Range>(&self, regions: &[[R; 3]]) -> Option<Tape> {
+        let (mut tapes, which) = self.specialise_groups(regions, &[(0, regions.len())]);
+        which[0].map(|k| tapes.swap_remove(k))
+    }
+
+    /// A tape with the same value as this one at every point of the region that
+    /// `region` encloses, for shading: only the exact rule (decided `min`/`max`)
+    /// applied, nothing folded by sign. `None` when nothing shortens it.
+    pub fn specialise_values<R: Range>(&self, region: &[R; 3]) -> Option<Tape> {
         let spec = self.specialiser();
-        if !spec.worth || regions.is_empty() {
+        if !spec.worth {
             return None;
         }
         let ins = self.instructions();
-        // The hull over the regions of each watched register, from an empty start;
-        // NaN (decides nothing) for the others.
-        let mut bounds: Vec<(f64, f64)> = spec
-            .watch
-            .iter()
-            .map(|&w| {
-                if w {
-                    (f64::INFINITY, f64::NEG_INFINITY)
-                } else {
-                    (f64::NAN, f64::NAN)
-                }
-            })
-            .collect();
-        for [x, y, z] in regions {
-            with_registers(|regs: &mut Vec<Option<R>>| {
-                self.run(regs, x.clone(), y.clone(), z.clone(), |k, v| {
-                    if spec.watch[k] {
-                        let (lo, hi) = bounds_of(v);
-                        let b = &mut bounds[k];
-                        // NaN stays: it decides nothing.
-                        b.0 = if lo.is_nan() || b.0.is_nan() {
-                            f64::NAN
-                        } else {
-                            b.0.min(lo)
-                        };
-                        b.1 = if hi.is_nan() || b.1.is_nan() {
-                            f64::NAN
-                        } else {
-                            b.1.max(hi)
-                        };
-                    }
-                })
-            });
-        }
-        let decisions = spec.decide(ins, &bounds);
+        let bounds = self.watched_bounds(spec, region);
+        let decisions = spec.decide(ins, &bounds, false);
         if decisions.iter().all(|&d| d == KEEP) {
             return None;
         }
+        let t = rebuild(ins, &vec![false; ins.len()], &decisions);
+        (t.len() < ins.len()).then_some(t)
+    }
+
+    /// Each watched register's bounds over `region`; NaN (decides nothing) for the
+    /// others.
+    fn watched_bounds<R: Range>(&self, spec: &Specialiser, [x, y, z]: &[R; 3]) -> Vec<(f64, f64)> {
+        let mut bounds = vec![(f64::NAN, f64::NAN); self.len()];
+        with_registers(|regs: &mut Vec<Option<R>>| {
+            self.run(regs, x.clone(), y.clone(), z.clone(), |k, v| {
+                if spec.watch[k] {
+                    bounds[k] = bounds_of(v);
+                }
+            })
+        });
+        bounds
+    }
+
+    /// [`Tape::specialise`] for several unions of regions at once: `groups[g] = (i, j)`
+    /// is the union of `regions[i..j]`. Each region is evaluated once, whatever the
+    /// number of groups it is in. Gives the distinct tapes built and, per group, the
+    /// index of its tape (`None`: nothing shortens it); groups with the same decisions
+    /// share one tape.
+    pub fn specialise_groups<R: Range>(
+        &self,
+        regions: &[[R; 3]],
+        groups: &[(usize, usize)],
+    ) -> (Vec<Tape>, Vec<Option<usize>>) {
+        let spec = self.specialiser();
+        if !spec.worth || regions.is_empty() {
+            return (Vec::new(), vec![None; groups.len()]);
+        }
+        let ins = self.instructions();
+        let per_region: Vec<Vec<(f64, f64)>> = regions
+            .iter()
+            .map(|r| self.watched_bounds(spec, r))
+            .collect();
+        let mut tapes: Vec<Tape> = Vec::new();
+        let mut built: HashMap<Vec<u8>, Option<usize>> = HashMap::new();
+        let which = groups
+            .iter()
+            .map(|&(i, j)| {
+                let rs = per_region.get(i..j).filter(|r| !r.is_empty())?;
+                // The hull over the group's regions; NaN stays (it decides nothing).
+                let bounds: Vec<(f64, f64)> = (0..ins.len())
+                    .map(|k| {
+                        rs.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |b, r| {
+                            let (lo, hi) = r[k];
+                            (
+                                if lo.is_nan() || b.0.is_nan() {
+                                    f64::NAN
+                                } else {
+                                    b.0.min(lo)
+                                },
+                                if hi.is_nan() || b.1.is_nan() {
+                                    f64::NAN
+                                } else {
+                                    b.1.max(hi)
+                                },
+                            )
+                        })
+                    })
+                    .collect();
+                let decisions = spec.decide(ins, &bounds, true);
+                if decisions.iter().all(|&d| d == KEEP) {
+                    return None;
+                }
+                if let Some(&k) = built.get(&decisions) {
+                    return k;
+                }
+                let k = self.rebuilt(spec, ins, &decisions).map(|t| {
+                    tapes.push(t);
+                    tapes.len() - 1
+                });
+                built.insert(decisions, k);
+                k
+            })
+            .collect();
+        (tapes, which)
+    }
+
+    /// The tape rebuilt with `decisions` (from the cache where it was built before),
+    /// `None` when it is no shorter.
+    fn rebuilt(&self, spec: &Specialiser, ins: &[Instr], decisions: &[u8]) -> Option<Tape> {
         if let Ok(cache) = spec.cache.lock() {
-            if let Some(t) = cache.get(&decisions) {
+            if let Some(t) = cache.get(decisions) {
                 return t.clone();
             }
         }
-        let t = rebuild(ins, &spec.sign_only, &decisions);
+        let t = rebuild(ins, &spec.sign_only, decisions);
         let t = (t.len() < ins.len()).then_some(t);
         if let Ok(mut cache) = spec.cache.lock() {
             if cache.len() < CACHE_LIMIT {
-                cache.insert(decisions, t.clone());
+                cache.insert(decisions.to_vec(), t.clone());
             }
         }
         t
