@@ -930,7 +930,7 @@ mod tests {
                 ) -> (Vec<(u32, u32, Start)>, CullStats) {
                     let mut rays = Vec::new();
                     let mut stats = CullStats::default();
-                    let mut trace = |i, j, d, _: Option<&Arc<S>>| rays.push((j, i, d));
+                    let mut trace = |i, j, d, _: Option<&Arc<Windows<S>>>| rays.push((j, i, d));
                     crate::with_arith!(kind, A => c.traverse::<A, _, _>(shape, rect, &mut stats, &mut trace));
                     rays.sort_by_key(|r| (r.0, r.1));
                     (rays, stats)
@@ -967,7 +967,7 @@ mod tests {
                     let mut got = vec![None; (w * h) as usize];
                     let mut stats = CullStats::default();
                     let mut gaps = 0;
-                    let mut trace = |i: u32, j: u32, s: Start, _: Option<&Arc<Ball>>| {
+                    let mut trace = |i: u32, j: u32, s: Start, _: Option<&Arc<Windows<Ball>>>| {
                         assert!(s.t0 <= s.split && s.split <= s.resume, "{s:?}");
                         assert!(s.resume <= s.t1 && s.step >= 0.0, "{s:?}");
                         gaps += usize::from(s.resume > s.split);
