@@ -140,6 +140,70 @@ proptest! {
     }
 }
 
+/// Points of the box `b`: its corners, then pseudo-random ones.
+fn points_in(b: &[(f64, f64); 3], seed: u64) -> impl Iterator<Item = [f64; 3]> + '_ {
+    let mut state = seed | 1;
+    (0..64).map(move |n| {
+        core::array::from_fn(|k| {
+            let u = if n < 8 {
+                f64::from((n >> k) & 1)
+            } else {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                (state >> 11) as f64 / (1u64 << 53) as f64
+            };
+            (b[k].0 + (b[k].1 - b[k].0) * u).clamp(b[k].0, b[k].1)
+        })
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(300))]
+
+    /// A tape specialised for shading has the whole tape's value, to the bit, at every
+    /// point of its box.
+    #[test]
+    fn value_tapes_keep_the_value(f in tree(), b in region(), seed in any::<u64>()) {
+        let t = parse(&f).unwrap();
+        let region: [Interval; 3] = core::array::from_fn(|k| Interval::from_interval(b[k].0, b[k].1));
+        if let Some(v) = t.specialise_values(&region) {
+            prop_assert!(v.len() < t.len());
+            for p in points_in(&b, seed) {
+                let (a, c): (f64, f64) = (t.eval(p[0], p[1], p[2]), v.eval(p[0], p[1], p[2]));
+                prop_assert!(
+                    a.to_bits() == c.to_bits() || (a.is_nan() && c.is_nan()),
+                    "{a} != {c} at {p:?}\nwhole:\n{t}\nvalues:\n{v}"
+                );
+            }
+        }
+    }
+
+    /// Specialised over several regions at once (the depth windows): each group's tape
+    /// keeps the sign over every region of the group.
+    #[test]
+    fn grouped_tapes_keep_the_sign(f in tree(), b in region(), seed in any::<u64>()) {
+        let t = parse(&f).unwrap();
+        // The box cut in two along z: the halves and their union.
+        let mid = 0.5 * (b[2].0 + b[2].1);
+        let halves = [[b[0], b[1], (b[2].0, mid)], [b[0], b[1], (mid, b[2].1)]];
+        let regions: Vec<[RevAa<3>; 3]> = halves
+            .iter()
+            .map(|h| core::array::from_fn(|k| RevAa::<3>::input(k, h[k].0, h[k].1)))
+            .collect();
+        let groups = [(0, 1), (1, 2), (0, 2)];
+        let (tapes, which) = t.specialise_groups(&regions, &groups);
+        prop_assert_eq!(which.len(), groups.len());
+        for (g, w) in which.iter().enumerate() {
+            let Some(k) = *w else { continue };
+            let (i, j) = groups[g];
+            for h in &halves[i..j] {
+                check_signs(&t, &tapes[k], h, seed ^ g as u64).map_err(TestCaseError::fail)?;
+            }
+        }
+    }
+}
+
 /// `n` balls of radius 0.2 at the points of a 3-D grid, joined by `max` or by `|`.
 fn balls(n: usize, join: &str) -> (String, Vec<DVec3>) {
     let mut centres = Vec::new();

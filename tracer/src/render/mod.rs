@@ -273,8 +273,8 @@ pub fn render<A: Arithmetic, S: Shape>(
         pruning: opts.pruning,
     };
     let light = Light::for_camera(&cam);
-    let scale = (dom.max - dom.min).length();
     let culler = Culler::new(&cam, &dom).specialising(opts.specialise);
+    let scale = (dom.max - dom.min).length();
     let tile = opts.tile.max(1);
     let mut tiles = Vec::new();
     for j0 in (0..opts.height).step_by(tile as usize) {
@@ -392,6 +392,34 @@ const SHADE_BLOCK: usize = 256;
 /// The widest box (in sample steps) a group of hits is shaded in.
 const SHADE_BOX: f64 = 16.0;
 
+/// The box of the shading samples ([`shade::samples`]) of some hits: exactly the least
+/// and greatest of their rounded coordinates, so every sample lies in it.
+#[derive(Clone, Copy)]
+struct SampleBox {
+    lo: DVec3,
+    hi: DVec3,
+}
+
+impl SampleBox {
+    const EMPTY: SampleBox = SampleBox {
+        lo: DVec3::INFINITY,
+        hi: DVec3::NEG_INFINITY,
+    };
+
+    /// This box and the samples of a hit at `p` with step `h`.
+    fn with(self, (p, h): (DVec3, f64)) -> SampleBox {
+        shade::samples(p, h).iter().fold(self, |b, &q| SampleBox {
+            lo: b.lo.min(q),
+            hi: b.hi.max(q),
+        })
+    }
+
+    /// Its sides as intervals.
+    fn ranges(&self) -> [Interval; 3] {
+        core::array::from_fn(|k| Interval::from_interval(self.lo[k], self.hi[k]))
+    }
+}
+
 /// [`render`] with the arithmetic chosen at run time.
 pub fn render_kind<S: Shape>(
     kind: ArithKind,
@@ -492,22 +520,17 @@ fn render_tile<A: Arithmetic, S: Shape>(
         let RayJob { o, d, .. } = jobs[ray];
         (o + d * t, params.precision.at(t).max(scale * SHADING_STEP))
     };
-    let boxed = |at: &mut dyn Iterator<Item = (DVec3, f64)>| {
-        let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-        for (p, h) in at {
-            for q in shade::samples(p, h) {
-                lo = lo.min(q);
-                hi = hi.max(q);
-            }
-        }
-        let i = |k: usize| Interval::from_interval(lo[k], hi[k]);
-        [i(0), i(1), i(2)]
-    };
-    for block in hits.chunks(SHADE_BLOCK) {
+    let block_len = if by_values { SHADE_BLOCK } else { 1 };
+    for block in hits.chunks(block_len) {
         // The block's shape first (over the box of all its samples), each group's from it.
+        let values_over = |base: &S, b: &SampleBox, ops: &mut u64| {
+            *ops += base.tape_len().unwrap_or(0) as u64;
+            base.specialise_values(&b.ranges())
+        };
         let block_shape = if by_values {
-            st.range_ops += shape.tape_len().unwrap_or(0) as u64;
-            shape.specialise_values(&boxed(&mut block.iter().map(sample_at)))
+            let mut b = SampleBox::EMPTY;
+            block.iter().for_each(|hit| b = b.with(sample_at(hit)));
+            values_over(shape, &b, &mut st.range_ops)
         } else {
             None
         };
@@ -516,27 +539,21 @@ fn render_tile<A: Arithmetic, S: Shape>(
         while !rest.is_empty() {
             // A group: up to SHADE_GROUP hits whose samples fit in a box a few steps wide
             // (a depth jump starts a new one).
-            let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+            let mut b = SampleBox::EMPTY;
             let mut at: Vec<(DVec3, f64)> = Vec::with_capacity(SHADE_GROUP);
             for hit in rest.iter().take(SHADE_GROUP) {
                 let (p, h) = sample_at(hit);
-                let (mut l, mut u) = (lo, hi);
-                for q in shade::samples(p, h) {
-                    l = l.min(q);
-                    u = u.max(q);
-                }
-                if !at.is_empty() && (u - l).max_element() > SHADE_BOX * h {
+                let wider = b.with((p, h));
+                if !at.is_empty() && (wider.hi - wider.lo).max_element() > SHADE_BOX * h {
                     break;
                 }
-                (lo, hi) = (l, u);
+                b = wider;
                 at.push((p, h));
             }
             let (group, next) = rest.split_at(at.len());
             rest = next;
             let local = if by_values {
-                st.range_ops += base.tape_len().unwrap_or(0) as u64;
-                let i = |k: usize| Interval::from_interval(lo[k], hi[k]);
-                base.specialise_values(&[i(0), i(1), i(2)])
+                values_over(base, &b, &mut st.range_ops)
             } else {
                 None
             };

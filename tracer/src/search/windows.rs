@@ -51,16 +51,6 @@ impl<S: ?Sized> Windows<S> {
     pub fn whole(&self) -> Option<&Arc<S>> {
         self.list.last().and_then(|w| w.shape.as_ref())
     }
-
-    /// The number of windows with a shape of their own.
-    pub fn len(&self) -> usize {
-        self.list.len()
-    }
-
-    /// Whether there is none.
-    pub fn is_empty(&self) -> bool {
-        self.list.is_empty()
-    }
 }
 
 impl<S: Shape> Windows<S> {
