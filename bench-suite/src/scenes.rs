@@ -171,7 +171,7 @@ fn measure_model(name: &str, model: &Model, side: u32, o: &Options) -> Result<Po
     } else {
         off.hit.iter().zip(&on.hit).filter(|(a, b)| a != b).count()
     };
-    let ev = |r: &RenderResult| r.stats.range_evals + r.stats.cell_evals;
+    let ev = |r: &RenderResult| r.stats.range_evals + r.stats.cell_evals + r.stats.shade_evals;
     Ok(Point {
         name: name.to_string(),
         tape_len: tape.len(),

@@ -129,9 +129,12 @@ pub struct RenderStats {
     pub range_evals_hit: u64,
     /// Range evaluations of culling cells (narrowing and specialisation).
     pub cell_evals: u64,
-    /// Instructions run by all range evaluations, on rays and cells, for shapes that
-    /// are tapes ([`Shape::tape_len`]; 0 otherwise): with [`Self::range_evals`] and
-    /// [`Self::cell_evals`], the mean tape length that specialisation brings down.
+    /// Range evaluations over the boxes of shading samples (the normals' tapes
+    /// specialised there).
+    pub shade_evals: u64,
+    /// Instructions run by all range evaluations, on rays, cells and shading boxes, for
+    /// shapes that are tapes ([`Shape::tape_len`]; 0 otherwise): with the three counts
+    /// of evaluations, the mean tape length that specialisation brings down.
     pub range_ops: u64,
     /// Point evaluations (normals).
     pub point_evals: u64,
@@ -163,7 +166,7 @@ impl RenderStats {
     /// Mean tape length of a range evaluation (rays and cells; 0 for shapes that are not
     /// tapes).
     pub fn mean_tape_len(&self) -> f64 {
-        let evals = self.range_evals + self.cell_evals;
+        let evals = self.range_evals + self.cell_evals + self.shade_evals;
         if evals == 0 {
             0.0
         } else {
@@ -196,8 +199,8 @@ impl std::fmt::Display for RenderStats {
         )?;
         writeln!(
             f,
-            "range evaluations:    {} on rays, {} on cells",
-            self.range_evals, self.cell_evals
+            "range evaluations:    {} on rays, {} on cells, {} on shading boxes",
+            self.range_evals, self.cell_evals, self.shade_evals
         )?;
         writeln!(f, "point evaluations:    {}", self.point_evals)?;
         writeln!(
@@ -353,6 +356,7 @@ pub fn render<A: Arithmetic, S: Shape>(
         stats.range_evals_hit += s.range_evals_hit;
         stats.cell_evals += s.cell_evals;
         stats.range_ops += s.range_ops;
+        stats.shade_evals += s.shade_evals;
         stats.point_evals += s.point_evals;
         stats.cells_culled += s.cells_culled;
         stats.pixels_culled += s.pixels_culled;
@@ -523,14 +527,15 @@ fn render_tile<A: Arithmetic, S: Shape>(
     let block_len = if by_values { SHADE_BLOCK } else { 1 };
     for block in hits.chunks(block_len) {
         // The block's shape first (over the box of all its samples), each group's from it.
-        let values_over = |base: &S, b: &SampleBox, ops: &mut u64| {
-            *ops += base.tape_len().unwrap_or(0) as u64;
+        let values_over = |base: &S, b: &SampleBox, st: &mut RenderStats| {
+            st.shade_evals += 1;
+            st.range_ops += base.tape_len().unwrap_or(0) as u64;
             base.specialise_values(&b.ranges())
         };
         let block_shape = if by_values {
             let mut b = SampleBox::EMPTY;
             block.iter().for_each(|hit| b = b.with(sample_at(hit)));
-            values_over(shape, &b, &mut st.range_ops)
+            values_over(shape, &b, &mut st)
         } else {
             None
         };
@@ -553,7 +558,7 @@ fn render_tile<A: Arithmetic, S: Shape>(
             let (group, next) = rest.split_at(at.len());
             rest = next;
             let local = if by_values {
-                values_over(base, &b, &mut st.range_ops)
+                values_over(base, &b, &mut st)
             } else {
                 None
             };
