@@ -323,9 +323,9 @@ fn cmd_render(a: &RenderArgs) -> Result<(), String> {
     }
     if res.stats.cut {
         let what = if a.depth.is_some() {
-            "image and depth were written (unfinished tiles are background, depth +inf)"
+            "image and depth were written (unfinished pixels are background, depth +inf)"
         } else {
-            "image was written (unfinished tiles are background)"
+            "image was written (unfinished pixels are background)"
         };
         eprintln!(
             "interrupted: {} of {} tiles done; the partial {what}",

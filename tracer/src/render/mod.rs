@@ -13,7 +13,7 @@ use crate::camera::Camera;
 use crate::models::Model;
 use crate::search::cull::{CullStats, Culler};
 use crate::search::ray::{
-    clip, clip_with, first_root, first_roots, Precision, RayJob, RayParams, RayStats, Start,
+    clip, clip_with, first_root, first_roots_until, Precision, RayJob, RayParams, RayStats, Start,
 };
 use crate::search::windows::Windows;
 use crate::shape::{check_domain, Aabb, Shape, View};
@@ -154,7 +154,7 @@ pub struct RenderStats {
     /// features thinner than the precision, or a function whose ranges hold 0
     /// everywhere (infinite or NaN values).
     pub unconfirmed: u64,
-    /// Whether the render stopped early (deadline or cancel): skipped tiles are background.
+    /// Whether the render stopped early (deadline or cancel): the pixels it did not finish are background.
     pub cut: bool,
     /// Tiles rendered.
     pub tiles_done: u64,
@@ -259,6 +259,8 @@ struct TileOut {
     rgb: Vec<u8>,
     depth: Vec<f32>,
     stats: RenderStats,
+    /// Stopped before its last rays: those pixels are background.
+    cut: bool,
 }
 
 /// Renders `shape` in the arithmetic `A`. Errors, before allocating anything, on a
@@ -307,7 +309,9 @@ pub fn render<A: Arithmetic, S: Shape>(
             if stop() {
                 return None;
             }
-            let out = render_tile::<A, S>(shape, opts, &cam, &culler, &params, &light, scale, rect);
+            let out = render_tile::<A, S>(
+                shape, opts, &cam, &culler, &params, &light, scale, rect, &stop,
+            );
             if let Some(p) = &opts.progress {
                 p.tile_done();
             }
@@ -349,6 +353,7 @@ pub fn render<A: Arithmetic, S: Shape>(
             stats.cut = true;
             continue;
         };
+        stats.cut |= out.cut;
         let s = out.stats;
         stats.rays += s.rays;
         stats.shadow_rays += s.shadow_rays;
@@ -363,7 +368,7 @@ pub fn render<A: Arithmetic, S: Shape>(
         stats.pruned_empty += s.pruned_empty;
         stats.hits += s.hits;
         stats.unconfirmed += s.unconfirmed;
-        stats.tiles_done += 1;
+        stats.tiles_done += u64::from(!out.cut);
     }
     stats.wall = start.elapsed();
     Ok(RenderResult::of_image(opts, rgb, depth, stats))
@@ -443,6 +448,7 @@ fn render_tile<A: Arithmetic, S: Shape>(
     light: &Light,
     scale: f64,
     rect: (u32, u32, u32, u32),
+    stop: &(dyn Fn() -> bool + Sync),
 ) -> TileOut {
     let (i0, j0, i1, j1) = rect;
     let tw = (i1 - i0) as usize;
@@ -451,7 +457,8 @@ fn render_tile<A: Arithmetic, S: Shape>(
     let mut depth = vec![f32::INFINITY; n];
     let mut st = RenderStats::default();
     // Rays are collected first (pixel, culling's depths), set up four at a time
-    // ([`Camera::rays4`]), then searched four at a time ([`first_roots`]).
+    // ([`Camera::rays4`]), then searched four at a time ([`first_roots_until`], which stops
+    // early, keeping what it found, when `stop` says so).
     // Each ray's shape: 0 the whole one, `k` its cell's depth windows `locals[k - 1]`
     // (rays come cell by cell, so a new one is pushed only when the cell's changes).
     let mut pending: Vec<(u32, u32, Start, u32)> = Vec::with_capacity(n);
@@ -504,7 +511,8 @@ fn render_tile<A: Arithmetic, S: Shape>(
         }
     }
     let mut hits: Vec<(usize, f64)> = Vec::new();
-    first_roots::<A, S>(shape, &windows, params, &jobs, |ray, hit, rs| {
+    // The rays a stop leaves unfinished are background.
+    let all = first_roots_until::<A, S>(shape, &windows, params, &jobs, stop, |ray, hit, rs| {
         st.range_evals += rs.range_evals;
         st.range_ops += rs.range_ops;
         st.pruned_empty += rs.pruned_empty;
@@ -589,6 +597,7 @@ fn render_tile<A: Arithmetic, S: Shape>(
         rgb,
         depth,
         stats: st,
+        cut: !all,
     }
 }
 

@@ -575,8 +575,26 @@ pub fn first_roots<A: Arithmetic, S: Shape + ?Sized>(
     windows: &[&Windows<S>],
     params: &RayParams,
     rays: &[RayJob],
-    mut done: impl FnMut(usize, Option<f64>, RayStats),
+    done: impl FnMut(usize, Option<f64>, RayStats),
 ) {
+    first_roots_until::<A, S>(shape, windows, params, rays, || false, done);
+}
+
+/// Evaluation steps of [`first_roots_until`] between two calls of its `stop`.
+const STOP_EVERY: u32 = 256;
+
+/// [`first_roots`] that gives up once `stop()` returns true (asked every
+/// [`STOP_EVERY`] evaluation steps: one ray of a loose arithmetic on a long tape can
+/// take seconds). The rays not finished by then are not reported to `done`. Returns
+/// whether every ray was.
+pub fn first_roots_until<A: Arithmetic, S: Shape + ?Sized>(
+    shape: &S,
+    windows: &[&Windows<S>],
+    params: &RayParams,
+    rays: &[RayJob],
+    stop: impl Fn() -> bool,
+    mut done: impl FnMut(usize, Option<f64>, RayStats),
+) -> bool {
     struct Slot {
         ray: usize,
         search: RaySearch,
@@ -594,7 +612,12 @@ pub fn first_roots<A: Arithmetic, S: Shape + ?Sized>(
     let mut slots: [Option<Slot>; LANES] = Default::default();
     let mut stacks: [Vec<(f64, f64)>; LANES] = core::array::from_fn(|_| Vec::with_capacity(64));
     let mut queue = 0..rays.len();
+    let mut steps = 0u32;
     loop {
+        steps = steps.wrapping_add(1);
+        if steps % STOP_EVERY == 0 && stop() {
+            return false;
+        }
         for (slot, stack) in slots.iter_mut().zip(&mut stacks) {
             while slot.is_none() {
                 let Some(ray) = queue.next() else { break };
@@ -615,7 +638,7 @@ pub fn first_roots<A: Arithmetic, S: Shape + ?Sized>(
             }
         }
         let Some(first) = slots.iter().position(Option::is_some) else {
-            return;
+            return true;
         };
         let alone = slots.iter().flatten().count() == 1;
         let shapes: [Option<&S>; LANES] = core::array::from_fn(|k| {
@@ -788,6 +811,70 @@ mod tests {
                     }
                 });
             }
+        }
+    }
+
+    /// A stop ends the search: the rays it reports are found as alone, the rest are not
+    /// reported, and without a stop every ray is.
+    #[test]
+    fn a_stop_ends_the_search_and_keeps_what_finished() {
+        let m = crate::models::PaperModel::Mitchell.model();
+        let cam = crate::camera::Camera::try_new(m.view, 32, 32).unwrap();
+        let params = RayParams {
+            precision: Precision {
+                abs: 1e-9 * (m.domain.max - m.domain.min).length(),
+                rel: 0.0,
+            },
+            pruning: true,
+        };
+        let jobs: Vec<RayJob> = (0..32 * 32)
+            .filter_map(|k| {
+                let (o, d) = cam.ray_at((k % 32) as f64 + 0.5, (k / 32) as f64 + 0.5);
+                let (t0, t1) = clip(o, d, &m.domain, 0.0)?;
+                Some(RayJob {
+                    o,
+                    d,
+                    start: Start::whole(t0, t1),
+                    shape: 0,
+                    depth: 1.0,
+                })
+            })
+            .collect();
+        type A = arith_ia::IaArith;
+        let run = |stop_at: u32| {
+            let asked = std::cell::Cell::new(0u32);
+            let mut got = Vec::new();
+            let all = first_roots_until::<A, _>(
+                &m,
+                &[],
+                &params,
+                &jobs,
+                || {
+                    asked.set(asked.get() + 1);
+                    asked.get() >= stop_at
+                },
+                |k, hit, st| got.push((k, hit, st)),
+            );
+            (all, got)
+        };
+        let (all, got) = run(u32::MAX);
+        assert!(all);
+        assert_eq!(got.len(), jobs.len());
+        let (all, got) = run(2);
+        assert!(!all);
+        assert!(
+            !got.is_empty() && got.len() < jobs.len(),
+            "{} rays",
+            got.len()
+        );
+        for (k, hit, st) in got {
+            let mut alone = RayStats::default();
+            let j = &jobs[k];
+            assert_eq!(
+                hit,
+                first_root::<A, _>(&m, j.o, j.d, j.start, &params, &mut alone)
+            );
+            assert_eq!(st, alone);
         }
     }
 
