@@ -211,13 +211,21 @@ pub fn run(o: &Options, mut progress: impl FnMut(&Point)) -> Result<Vec<Point>, 
             PaperModel::CsgBlendingPrinted,
             PaperModel::Hair,
             PaperModel::SphereMicrostructure,
+            PaperModel::Shikki,
         ][..]
     };
     for &m in paper {
-        let Some(text) = m.formula() else { continue };
         let base = m.model();
-        let mut model = Model::formula(text, Some(base.domain))?;
-        model.view = base.view;
+        // A model with a formula is rendered from it; Virtual Shikki is a tape already.
+        let model = match m.formula() {
+            Some(text) => {
+                let mut model = Model::formula(text, Some(base.domain))?;
+                model.view = base.view;
+                model
+            }
+            None if matches!(base.shape, tracer::models::AnyShape::Expr(_)) => base,
+            None => continue,
+        };
         let p = measure_model(m.name(), &model, o.paper_pixels, o)?;
         progress(&p);
         pts.push(p);
@@ -294,7 +302,7 @@ mod tests {
             ..Options::default()
         };
         let pts = run(&o, |_| {}).unwrap();
-        assert_eq!(pts.len(), 2 * 2 + 4);
+        assert_eq!(pts.len(), 2 * 2 + 5);
         assert!(pts.iter().all(|p| p.differ == 0), "{pts:?}");
         assert!(pts.iter().all(|p| p.evals[0] > 0 && p.evals[1] > 0));
         let md = markdown(&o, &pts);

@@ -908,10 +908,10 @@ fn model_files_stdin_and_formats() {
         "notch.expr:1:1: unexpected character '#'",
     );
     let bad = tmp("bad.vm");
-    std::fs::write(&bad, "a var-x\nb tan a\n").unwrap();
+    std::fs::write(&bad, "a var-x\nb atan a\n").unwrap();
     assert_user_error(
         &["range", bad.to_str().unwrap()],
-        "bad.vm:2:3: fidget opcode 'tan'",
+        "bad.vm:2:3: fidget opcode 'atan'",
     );
     assert_user_error(&["render", fs, "--ortho", "-1"], "--ortho");
 }
@@ -950,7 +950,7 @@ fn listed_formulas_are_the_models() {
             }
         }
     }
-    assert_eq!(n, 11);
+    assert_eq!(n, 14);
 }
 
 /// `--bound` picks how cones are cleared; a bad one is one line naming the flag. The

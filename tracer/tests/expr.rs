@@ -764,6 +764,21 @@ fn range_suite<R: Range>() {
         &boxes,
         6,
     );
+    // `tan` = `sin / cos`: bounded off its poles (x = +-pi/2 in [-2, 2]), the whole line
+    // over one.
+    check_ranges::<R>("tan(2*x) * y + tan(z)", &boxes, 6);
+    let t = tape("tan(x)");
+    let over = |a: f64, b: f64| {
+        let i = R::input(0, a, b);
+        t.eval(i.clone(), i.clone(), i).bounds()
+    };
+    let (lo, hi) = over(1.5, 1.6);
+    assert!(
+        lo == f64::NEG_INFINITY && hi == f64::INFINITY,
+        "[{lo}, {hi}]"
+    );
+    let (lo, hi) = over(0.0, 1.0);
+    assert!(lo <= 0.0 && hi >= 1.0f64.tan() && hi < 2.0, "[{lo}, {hi}]");
 }
 
 /// One `ranges_enclose_points` test per arithmetic of the one list (module named after

@@ -445,6 +445,10 @@ fn precedence_is_hyperfuns() {
         value("sinh(x[1]) + cosh(x[1]) + tanh(x[1])", p),
         0.5f64.sinh() + 0.5f64.cosh() + 0.5f64.tanh()
     ));
+    assert!(close(
+        value("tan(x[1]) + tan(x[3])", p),
+        0.5f64.tan() + (-1.5f64).tan()
+    ));
     assert_eq!(value("sign(x[3]) + sign(x[2])", p), 0.0);
     assert_eq!(value("max(x[1], x[2]) + min(x[1], x[3])", p), 0.5);
     // A parenthesised condition is a value 0 or 1.
@@ -599,7 +603,7 @@ fn errors_name_line_and_column() {
         ("my_model(x[3], a[1]) { my_model = hfFoo(x); }", 1, 35, "unknown function 'hffoo'"),
         ("my_model(x[3], a[1]) {\n  array c[3];\n  my_model = hfSphere(x, c);\n}", 3, 14, "hfSphere takes 3 arguments but was given 2"),
         ("my_model(x[3], a[1]) { my_model = sqrt(x[1], 2); }", 1, 35, "sqrt takes 1 argument but was given 2"),
-        ("my_model(x[3], a[1]) { my_model = tan(x[1]); }", 1, 35, "not in the HyperFun subset"),
+        ("my_model(x[3], a[1]) { my_model = atan(x[1]); }", 1, 35, "not in the HyperFun subset"),
         ("my_model(x[3], a[1]) { my_model = y + 1; }", 1, 35, "unknown variable 'y'"),
         ("my_model(x[3], a[1]) { my_model = x[4]; }", 1, 35, "out of range"),
         ("my_model(x[3], a[1]) { my_model = x[1] + ; }", 1, 42, "expected an expression"),

@@ -267,10 +267,9 @@ fn builtin_formulas_give_the_builtins_values() {
     let mut n = 0;
     for m in models::all() {
         let Some(text) = m.shape.formula() else {
-            // Noise, HyperFun's blends and the HyperFun scene have no formula text.
-            let none = ["landscape", "sphere-noise", "csg-blending", "shikki"];
+            // Noise has no formula text.
             assert!(
-                m.name.starts_with("hypertexture") || none.contains(&m.name.as_str()),
+                m.name.starts_with("hypertexture") || m.name == "landscape",
                 "{}",
                 m.name
             );
@@ -298,7 +297,7 @@ fn builtin_formulas_give_the_builtins_values() {
             }
         }
     }
-    assert_eq!(n, 11);
+    assert_eq!(n, 14);
 }
 
 /// Valid tapes with one line changed: dropped, duplicated, a word replaced.

@@ -171,11 +171,22 @@ impl PaperModel {
                  lattice = (sy & sz) | (sx & sz) | (sx & sy); shell = ball \\ (0.75 - r2); \
                  ((ball & lattice) | shell) & -z"
             }
-            // Written in the HyperFun subset or with the library's blends: no formula
-            // text that evaluates in the same order yet.
-            PaperModel::SphereNoise | PaperModel::CsgBlending | PaperModel::Shikki => {
-                return None
+            PaperModel::SphereNoise => {
+                "sx = sin(x * 1.5); sy = sin(y * 1.5); sz = sin(z * 1.5); \
+                 fx = sx * 3.8 + sin(x * 1.111 + sz * 1.1) * 1.624; \
+                 fy = sy * 3.8 + sin(y * 1.111 + sx * 1.1) * 1.299; \
+                 fz = sz * 3.8 + sin(z * 1.111 + sy * 1.1) * 2.598; \
+                 81 - (x^2 + y^2 + z^2) + fx * fy * fz"
             }
+            PaperModel::CsgBlending => {
+                "x2 = x^2; y2 = y^2; z2 = z^2; b = (0.36 - x2) & (0.36 - y2) & (0.36 - z2); \
+                 s = 0.7056 - (x2 + y2 + z2); \
+                 c1 = 0.09 - (y2 + z2); c2 = 0.09 - (x2 + z2); c3 = 0.25 - (x2 + y2); \
+                 f1 = hf_blend_union(c1, c2, 0.5, 1, 1); f2 = hf_blend_intersect(f1, s, 0.5, 1, 1); \
+                 f3 = hf_blend_union(f2, b, 0.5, 1, 1); hf_blend_intersect(f3, -c3, 0.5, 1, 1)"
+            }
+            // A HyperFun program: its formula is its tape's (`AnyShape::formula`).
+            PaperModel::Shikki => return None,
         })
     }
 
@@ -245,7 +256,11 @@ impl PaperModel {
         Model {
             name: self.name().to_string(),
             description: self.description().to_string(),
-            shape: AnyShape::Paper(self),
+            // Virtual Shikki as its tape, so that region specialisation applies.
+            shape: match (self, shikki_tape()) {
+                (PaperModel::Shikki, Some(t)) => AnyShape::Expr(t.clone()),
+                _ => AnyShape::Paper(self),
+            },
             domain: self.domain(),
             view: self.view(),
             lipschitz: None,

@@ -13,8 +13,8 @@
 //! name earlier values (or, for `const`, a number). The last value defined is the
 //! function. An identifier may be defined again; later lines then mean the new value,
 //! as in fidget. Opcodes read: `var-x var-y var-z const add sub mul div min max neg
-//! square sqrt abs exp ln sin cos recip`. fidget also defines `floor ceil round tan
-//! asin acos atan atan2 not rand compare mod and or mix`; they are refused with an error
+//! square sqrt abs exp ln sin cos tan recip` (`tan` as `sin / cos`). fidget also
+//! defines `floor ceil round asin acos atan atan2 not rand compare mod and or mix`; they are refused with an error
 //! naming the opcode and its line and column.
 //!
 //! **Sign convention.** fidget's functions are negative inside, ours are `>= 0` inside,
@@ -31,9 +31,9 @@ use super::formula::{BinOp, Binding, Expr, Func, Program, Tape, Var};
 use std::collections::HashMap;
 
 /// fidget opcodes this reader refuses.
-pub const UNSUPPORTED: [&str; 15] = [
-    "floor", "ceil", "round", "tan", "asin", "acos", "atan", "atan2", "not", "rand", "compare",
-    "mod", "and", "or", "mix",
+pub const UNSUPPORTED: [&str; 14] = [
+    "floor", "ceil", "round", "asin", "acos", "atan", "atan2", "not", "rand", "compare", "mod",
+    "and", "or", "mix",
 ];
 
 /// What an opcode reads.
@@ -68,13 +68,14 @@ fn opcode(op: &str) -> Option<Kind> {
         "ln" => Call(Func::Ln),
         "sin" => Call(Func::Sin),
         "cos" => Call(Func::Cos),
+        "tan" => Call(Func::Tan),
         _ => return None,
     })
 }
 
 /// Opcodes read, for messages.
 const SUPPORTED: &str =
-    "var-x var-y var-z const add sub mul div min max neg square recip sqrt abs exp ln sin cos";
+    "var-x var-y var-z const add sub mul div min max neg square recip sqrt abs exp ln sin cos tan";
 
 /// A malformed tape: 1-based line and column (in characters) and what is wrong.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -248,8 +249,8 @@ mod tests {
     fn errors_name_line_and_column() {
         let e = |s: &str| parse(s).unwrap_err().to_string();
         assert_eq!(
-            e("_0 var-x\n_1 tan _0"),
-            format!("2:4: fidget opcode 'tan' is not supported (supported: {SUPPORTED})")
+            e("_0 var-x\n_1 atan _0"),
+            format!("2:4: fidget opcode 'atan' is not supported (supported: {SUPPORTED})")
         );
         assert!(e("_0 var-x\n_1 frob _0").starts_with("2:4: unknown opcode 'frob'"));
         assert_eq!(

@@ -43,6 +43,9 @@ pub enum Func {
     Sin,
     /// `cos`.
     Cos,
+    /// `tan`, computed as `sin(a) / cos(a)` (each bounded soundly, and the quotient's
+    /// range is the whole line where `cos` can be 0: at a pole).
+    Tan,
     /// `abs`.
     Abs,
     /// `min` of two arguments.
@@ -70,13 +73,14 @@ pub enum Func {
 
 impl Func {
     /// Every function, for lookups and test generators.
-    pub const ALL: [Func; 15] = [
+    pub const ALL: [Func; 16] = [
         Func::Sqrt,
         Func::Sqr,
         Func::Exp,
         Func::Ln,
         Func::Sin,
         Func::Cos,
+        Func::Tan,
         Func::Abs,
         Func::Min,
         Func::Max,
@@ -97,6 +101,7 @@ impl Func {
             Func::Ln => "ln",
             Func::Sin => "sin",
             Func::Cos => "cos",
+            Func::Tan => "tan",
             Func::Abs => "abs",
             Func::Min => "min",
             Func::Max => "max",

@@ -50,7 +50,7 @@ macro_rules! syntax_text {
   powers       x^2, x^-2: integer exponents, right-associative (2^3^2 = 2^9) and
                tighter than unary minus (-x^2 = -(x^2)); x^2.5, x^-0.5: a real
                exponent c is exp(c*ln(x)), so 0 (c > 0) or +inf (c < 0) where x <= 0
-  functions    sqrt sqr exp ln sin cos abs not (one argument), min max (two),
+  functions    sqrt sqr exp ln sin cos tan abs not (one argument), min max (two),
                if(c, a, b): a where c holds, else b
   R-functions  a & b (intersection), a \ b (subtraction), a | b (union): looser than
                arithmetic, & and \ tighter than |, all left-associative:

@@ -623,6 +623,11 @@ impl Builder {
                         Val::R(self.emit(Instr::new(op, a, b, 0, 0.0)))
                     }
                     Func::Sqr => self.powi(v, 2),
+                    Func::Tan => {
+                        let s = self.unary_folded(Op::Sin, v);
+                        let c = self.unary_folded(Op::Cos, v);
+                        self.binary(BinOp::Div, s, c)
+                    }
                     _ => {
                         let op = match f {
                             Func::Sqrt => Op::Sqrt,
@@ -683,6 +688,7 @@ pub(crate) fn folded_const(e: &Expr, binds: &[Option<f64>]) -> Option<f64> {
                 Func::Ln => fold_unary(Op::Ln, v),
                 Func::Sin => fold_unary(Op::Sin, v),
                 Func::Cos => fold_unary(Op::Cos, v),
+                Func::Tan => fold_bin(BinOp::Div, fold_unary(Op::Sin, v)?, fold_unary(Op::Cos, v)?),
                 Func::Abs => fold_unary(Op::Abs, v),
                 // Handled above.
                 _ => None,

@@ -72,13 +72,14 @@ fn hf_round(d: f64) -> f64 {
 }
 
 /// HyperFun's built-in functions the subset has, and their arities.
-const BUILTINS: [(&str, usize); 11] = [
+const BUILTINS: [(&str, usize); 12] = [
     ("sqrt", 1),
     ("exp", 1),
     ("log", 1),
     ("logd", 1),
     ("sin", 1),
     ("cos", 1),
+    ("tan", 1),
     ("abs", 1),
     ("max", 2),
     ("min", 2),
@@ -87,8 +88,8 @@ const BUILTINS: [(&str, usize); 11] = [
 ];
 const MORE_BUILTINS: [(&str, usize); 2] = [("tanh", 1), ("sign", 1)];
 /// Built-ins of HyperFun the subset does not have.
-const UNSUPPORTED: [&str; 10] = [
-    "tan", "asin", "acos", "atan", "atan2", "mod", "ceil", "floor", "int", "frac",
+const UNSUPPORTED: [&str; 9] = [
+    "asin", "acos", "atan", "atan2", "mod", "ceil", "floor", "int", "frac",
 ];
 
 impl Ctx for Compiler<'_> {
@@ -583,6 +584,7 @@ impl<'a> Compiler<'a> {
                 ),
                 "sin" => f(Func::Sin, v),
                 "cos" => f(Func::Cos, v),
+                "tan" => f(Func::Tan, v),
                 "abs" => f(Func::Abs, v),
                 "max" => f(Func::Max, v),
                 "min" => f(Func::Min, v),
