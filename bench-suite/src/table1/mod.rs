@@ -4,14 +4,14 @@
 //! view; the arithmetics are interleaved per model and the whole round is repeated, so
 //! slow drift (thermal, other load) hits all of them alike; the median wall time is
 //! reported. A render that runs past the per-cell budget is stopped (the tracer stops
-//! starting new tiles; tiles in flight finish) and shown as `> N s`; it is not repeated.
+//! its rays within a moment) and shown as `> N s`; it is not repeated.
 //!
 //! Like the paper's CPU renderer, primary rays only, no shadows, argument pruning on and
 //! cell culling off (the paper: "we do not use cell culling in the CPU renderer");
 //! `--culling` turns it on.
 //!
 //! With [`Options::cancel`] set (Ctrl-C in the CLI), the run stops between renders (a
-//! render in flight stops after its tiles in flight and is discarded), marks the cells it
+//! render in flight stops within a moment and is discarded), marks the cells it
 //! did not measure as interrupted, and still writes the tables with what it measured.
 
 mod masks;
@@ -366,12 +366,12 @@ pub fn render_cancellable(
     o.shadows = false;
     o.progress = None;
     o.deadline = Some(Instant::now() + budget);
-    // The deadline is checked between tiles, so a stopped render overshoots its budget
-    // by at most a tile per thread. Every render here uses the same tile, so culling
-    // on/off comparisons stay fair.
+    // Every render here uses the same tile, so culling on/off comparisons stay fair.
     o.tile = RENDER_TILE;
     o.cancel = cancel;
-    render_kind(kind, &m, &o)
+    // The model's shape, as `tracer render` has it (Virtual Shikki: its tape, which
+    // specialises).
+    render_kind(kind, &model.shape, &o)
 }
 
 /// Runs the table, writes every output file into `opts.out`, returns what it measured.

@@ -615,7 +615,7 @@ pub fn first_roots_until<A: Arithmetic, S: Shape + ?Sized>(
     let mut steps = 0u32;
     loop {
         steps = steps.wrapping_add(1);
-        if steps % STOP_EVERY == 0 && stop() {
+        if steps.is_multiple_of(STOP_EVERY) && stop() {
             return false;
         }
         for (slot, stack) in slots.iter_mut().zip(&mut stacks) {
