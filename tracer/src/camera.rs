@@ -281,9 +281,112 @@ pub fn frame_box(domain: &Aabb) -> Result<View, String> {
     Ok(view)
 }
 
+/// Closest angle, in radians, that [`orbit`] lets the viewing direction come to `up` or
+/// to `-up` (there the image's up direction is undefined).
+pub const ORBIT_POLE_MARGIN: f64 = 0.05;
+
+/// `view` turned about its point looked at: by `yaw` radians about its up vector, then
+/// by `pitch` radians about the image's right vector (positive: the eye rises), stopping
+/// [`ORBIT_POLE_MARGIN`] short of the up vector's poles. The distance to the point looked
+/// at is kept. The window's drag with the right button.
+pub fn orbit(view: &View, yaw: f64, pitch: f64) -> View {
+    let up = view.up.normalize_or_zero();
+    let off = view.eye - view.look_at;
+    let (r, dir) = (off.length(), off.normalize_or_zero());
+    if up == DVec3::ZERO || dir == DVec3::ZERO || !(yaw.is_finite() && pitch.is_finite()) {
+        return *view;
+    }
+    // Polar angle from up, and the direction around it.
+    let polar = dir.dot(up).clamp(-1.0, 1.0).acos();
+    let flat = (dir - up * dir.dot(up)).normalize_or_zero();
+    let flat = if flat == DVec3::ZERO {
+        up.any_orthonormal_vector()
+    } else {
+        flat
+    };
+    let side = up.cross(flat);
+    let (s, c) = yaw.sin_cos();
+    let flat = flat * c + side * s;
+    let polar = (polar - pitch).clamp(ORBIT_POLE_MARGIN, std::f64::consts::PI - ORBIT_POLE_MARGIN);
+    let dir = up * polar.cos() + flat * polar.sin();
+    View {
+        eye: view.look_at + dir * r,
+        ..*view
+    }
+}
+
+/// `view` moved towards its point looked at so that the distance (and an orthographic
+/// view's width) is `factor` times what it was: `factor < 1` zooms in. The window's
+/// mouse wheel. A factor that is not positive and finite changes nothing.
+pub fn zoom(view: &View, factor: f64) -> View {
+    if !(factor.is_finite() && factor > 0.0) {
+        return *view;
+    }
+    View {
+        eye: view.look_at + (view.eye - view.look_at) * factor,
+        ortho: view.ortho.map(|w| w * factor),
+        ..*view
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn orbit_keeps_the_distance_and_stops_short_of_the_poles() {
+        let v = View {
+            eye: DVec3::new(1.0, 2.0, 3.0),
+            look_at: DVec3::new(0.5, -1.0, 0.0),
+            ..view()
+        };
+        let r = (v.eye - v.look_at).length();
+        // A quarter turn about +y moves the eye from +z towards +x.
+        let q = orbit(&view(), std::f64::consts::FRAC_PI_2, 0.0);
+        assert!(
+            (q.eye - DVec3::new(5.0, 0.0, 0.0)).length() < 1e-12,
+            "{:?}",
+            q.eye
+        );
+        for (yaw, pitch) in [(0.3, 0.2), (-2.0, 1.0), (0.0, 10.0), (1.0, -10.0)] {
+            let o = orbit(&v, yaw, pitch);
+            assert_eq!((o.look_at, o.up, o.fov_deg), (v.look_at, v.up, v.fov_deg));
+            assert!(((o.eye - o.look_at).length() - r).abs() < 1e-12 * r);
+            let polar = (o.eye - o.look_at).normalize().dot(DVec3::Y).acos();
+            assert!(polar >= ORBIT_POLE_MARGIN - 1e-12);
+            assert!(polar <= std::f64::consts::PI - ORBIT_POLE_MARGIN + 1e-12);
+            check_view(&o).unwrap();
+        }
+        // Turning up and down again comes back (off the poles).
+        let back = orbit(&orbit(&v, 0.0, 0.4), 0.0, -0.4);
+        assert!((back.eye - v.eye).length() < 1e-12 * r);
+        // Nothing to turn about: unchanged.
+        assert_eq!(
+            orbit(
+                &View {
+                    eye: v.look_at,
+                    ..v
+                },
+                1.0,
+                1.0
+            )
+            .eye,
+            v.look_at
+        );
+    }
+
+    #[test]
+    fn zoom_scales_the_distance_and_the_ortho_width() {
+        let v = View {
+            ortho: Some(2.0),
+            ..view()
+        };
+        let z = zoom(&v, 0.5);
+        assert_eq!(z.eye, DVec3::new(0.0, 0.0, 2.5));
+        assert_eq!(z.ortho, Some(1.0));
+        assert_eq!(zoom(&v, 0.0), v);
+        assert_eq!(zoom(&v, f64::NAN), v);
+    }
 
     fn view() -> View {
         View {

@@ -10,7 +10,7 @@ use clap::{CommandFactory, Parser, Subcommand};
 use std::path::PathBuf;
 use std::process::ExitCode;
 use tracer::arith::ArithKind;
-use tracer::cli::{model_source, parse_ortho, parse_positive, parse_size, parse_vec3, ModelArgs};
+use tracer::cli::{model_source, parse_positive, parse_size, ModelArgs, ViewArgs};
 use tracer::render::output::{check_outputs, write_depth, write_png};
 use tracer::render::{render_kind, RenderOptions};
 use tracer::shape::{Aabb, Shape};
@@ -40,8 +40,10 @@ enum Cmd {
     /// arithmetic).
     ///
     /// In the window: drag with the left mouse button to set a region of interest (it
-    /// is refined first, outlined in white), right-click to cancel it; Esc or closing
-    /// the window stops refinement and writes --out.
+    /// is refined first, outlined in white), right-click to cancel it; drag with the
+    /// right button to orbit, turn the mouse wheel to zoom (each starts over); a model
+    /// file is read again when it changes; Esc or closing the window stops refinement
+    /// and writes --out.
     #[command(after_long_help = tracer::models::formula::SYNTAX)]
     Preview(tracer::cli::preview::PreviewArgs),
     /// Print a shell completion script: bash, zsh, fish, elvish or powershell.
@@ -69,23 +71,8 @@ struct RenderArgs {
     /// Depth map: .npy (float32, shape (H, W)) or .exr (one float32 channel Z); +inf on a miss.
     #[arg(long)]
     depth: Option<PathBuf>,
-    /// Eye position X,Y,Z.
-    #[arg(long, allow_hyphen_values = true)]
-    eye: Option<String>,
-    /// Point looked at X,Y,Z.
-    #[arg(long = "look-at", allow_hyphen_values = true)]
-    look_at: Option<String>,
-    /// Up vector X,Y,Z (default 0,1,0).
-    #[arg(long, allow_hyphen_values = true)]
-    up: Option<String>,
-    /// Vertical field of view in degrees.
-    #[arg(long, allow_hyphen_values = true)]
-    fov: Option<String>,
-    /// Orthographic camera WIDTH model units across the image (parallel rays along the
-    /// view direction, starting on the image plane through the eye) instead of the
-    /// pinhole; --fov is then unused.
-    #[arg(long, allow_hyphen_values = true, value_name = "WIDTH")]
-    ortho: Option<String>,
+    #[command(flatten)]
+    view: ViewArgs,
     /// Domain box XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX.
     #[arg(long, allow_hyphen_values = true)]
     domain: Option<String>,
@@ -247,26 +234,8 @@ fn cmd_render(a: &RenderArgs) -> Result<(), String> {
     };
     tracer::cli::set_threads(a.threads.as_deref())?;
     let model = model_source(&a.src, a.domain.as_deref().map(|d| ("--domain", d)))?;
-    let (name, domain, mut view) = (model.name.clone(), model.domain, model.view);
-    if let Some(s) = &a.eye {
-        view.eye = parse_vec3("--eye", s)?;
-    }
-    if let Some(s) = &a.look_at {
-        view.look_at = parse_vec3("--look-at", s)?;
-    }
-    if let Some(s) = &a.up {
-        view.up = parse_vec3("--up", s)?;
-    }
-    if let Some(s) = &a.fov {
-        let f = parse_positive("--fov", s)?;
-        if f >= 180.0 {
-            return Err(format!("--fov '{s}': must be below 180 degrees"));
-        }
-        view.fov_deg = f;
-    }
-    if let Some(s) = &a.ortho {
-        view.ortho = Some(parse_ortho(s)?);
-    }
+    let (name, domain) = (model.name.clone(), model.domain);
+    let view = a.view.apply(model.view)?;
     let kernel: tracer::render::bspline_filter::Kernel =
         a.filter.parse().map_err(|e| format!("--filter: {e}"))?;
     if a.aa == 0 || a.aa > 16 {

@@ -797,6 +797,39 @@ fn preview_takes_size() {
     assert_eq!(out.status.code(), Some(2), "{out:?}");
 }
 
+/// `tracer preview` takes the camera flags of `render`: looking away from the ball
+/// leaves the image empty, and a bad value is one line naming its flag.
+#[test]
+fn preview_takes_the_camera_flags() {
+    let shaded = |extra: &[&str]| {
+        let png = tmp("preview-view.png");
+        let mut args = vec![
+            "preview",
+            "--expr",
+            "1 - x^2 - y^2 - z^2",
+            "--headless",
+            "--size",
+            "16x16",
+            "--out",
+            png.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let out = tracer(&args);
+        assert_eq!(out.status.code(), Some(0), "{out:?}");
+        let img = image::open(&png).expect("valid PNG").to_rgb8();
+        img.pixels()
+            .filter(|p| p.0 != img.get_pixel(0, 0).0)
+            .count()
+    };
+    assert!(shaded(&["--eye", "0,0,6", "--look-at", "0,0,0", "--fov", "30"]) > 50);
+    assert_eq!(
+        shaded(&["--eye", "0,0,6", "--look-at", "0,0,12", "--up", "0,1,0"]),
+        0
+    );
+    assert_user_error(&["preview", "csg", "--headless", "--fov", "200"], "--fov");
+    assert_user_error(&["preview", "csg", "--headless", "--eye", "1,2"], "--eye");
+}
+
 /// The previewer's output paths are checked before any work: one line naming the flag.
 #[test]
 fn preview_paths_are_checked_first() {

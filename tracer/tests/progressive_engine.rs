@@ -474,7 +474,7 @@ fn headless_preview_writes_a_snapshot_per_level() {
         },
         domain: None,
         size: None,
-        ortho: None,
+        view: Default::default(),
         threads: None,
         width: 24,
         height: 16,

@@ -1,50 +1,26 @@
-//! Smoke test of the live preview window under a virtual X display (Xvfb). Skipped,
-//! with a message, on machines without `Xvfb`.
+//! The live preview window under a virtual X display (Xvfb): it refines and writes its
+//! image, and reads a model file again when it changes. Skipped, with a message, on
+//! machines without `Xvfb`.
 
 use std::process::{Command, Stdio};
 use std::time::Duration;
+
+mod common;
+use common::start_xvfb;
+
+/// One test at a time: two Xvfb servers started at once can race for one display.
+static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
 use tracer::cli::preview::{run_preview, PreviewArgs};
 use tracer::cli::ModelArgs;
 
-fn have_xvfb() -> bool {
-    Command::new("sh")
-        .args(["-c", "command -v Xvfb"])
-        .stdout(Stdio::null())
-        .status()
-        .is_ok_and(|s| s.success())
-}
-
 #[test]
 fn window_refines_for_a_second_then_stops_and_writes_the_image() {
-    if !have_xvfb() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let Some((display, mut xvfb)) = start_xvfb() else {
         println!("skipped: Xvfb is not installed");
         return;
-    }
-    // A free display number: Xvfb exits at once when the number is taken.
-    let mut started = None;
-    for k in 0..20 {
-        let display = format!(":{}", 90 + (std::process::id() + 37 * k) % 900);
-        let mut child = Command::new("Xvfb")
-            .args([
-                display.as_str(),
-                "-screen",
-                "0",
-                "640x480x24",
-                "-nolisten",
-                "tcp",
-            ])
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("start Xvfb");
-        std::thread::sleep(Duration::from_millis(700));
-        if child.try_wait().expect("poll Xvfb").is_none() {
-            started = Some((display, child));
-            break;
-        }
-    }
-    let (display, mut xvfb) = started.expect("no free X display for Xvfb");
-    // This test binary holds this one test only, so setting the variable races nothing.
+    };
+    // The other test here passes DISPLAY to a child process; none reads it in-process.
     std::env::set_var("DISPLAY", &display);
     let dir = std::env::temp_dir().join(format!("tracer-window-{}", std::process::id()));
     // --out's folder must exist, as for `tracer render`.
@@ -57,7 +33,7 @@ fn window_refines_for_a_second_then_stops_and_writes_the_image() {
         },
         domain: None,
         size: None,
-        ortho: None,
+        view: Default::default(),
         threads: None,
         width: 200,
         height: 160,
@@ -89,5 +65,68 @@ fn window_refines_for_a_second_then_stops_and_writes_the_image() {
     let bg = tracer::render::shade::BACKGROUND;
     let shaded = img.pixels().filter(|p| p.0 != bg).count();
     assert!(shaded > 1000, "only {shaded} shaded pixels");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A model file changed while the window is open is read again: a file that does not
+/// read keeps the last model (the error on stderr), one that does replaces it.
+#[test]
+fn window_reloads_a_changed_model_file() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let Some((display, mut xvfb)) = start_xvfb() else {
+        println!("skipped: Xvfb is not installed");
+        return;
+    };
+    let dir = std::env::temp_dir().join(format!("tracer-reload-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (model, out) = (dir.join("ball.expr"), dir.join("reloaded.png"));
+    std::fs::write(&model, "1 - x^2 - y^2 - z^2\n").unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_tracer"))
+        .args([
+            "preview",
+            model.to_str().unwrap(),
+            "--size",
+            "48x48",
+            "--out",
+        ])
+        .arg(&out)
+        .args(["--stop-after", "6"])
+        .env("DISPLAY", &display)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start tracer");
+    // Edits a second apart (the window looks every half second): a broken one, then
+    // a function with no surface at all.
+    std::thread::sleep(Duration::from_millis(2000));
+    std::fs::write(&model, "1 - x^\n").unwrap();
+    std::thread::sleep(Duration::from_millis(1500));
+    std::fs::write(&model, "-1 - x^2\n").unwrap();
+    let waited = std::time::Instant::now();
+    while child.try_wait().expect("poll tracer").is_none() {
+        if waited.elapsed() > Duration::from_secs(60) {
+            let _ = child.kill();
+            panic!("the preview did not stop");
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    let res = child.wait_with_output().expect("tracer output");
+    let _ = xvfb.kill();
+    let _ = xvfb.wait();
+    let err = String::from_utf8_lossy(&res.stderr);
+    assert!(res.status.success(), "stderr: {err}");
+    assert!(
+        err.contains("reload of") && err.contains("failed"),
+        "stderr: {err}"
+    );
+    let said = String::from_utf8_lossy(&res.stdout);
+    assert!(said.contains("reloaded"), "stdout: {said}");
+    // The last model has no surface: the image written at the end is all background.
+    let img = image::open(&out).expect("image written").to_rgb8();
+    let bg = tracer::render::shade::BACKGROUND;
+    assert!(
+        img.pixels().all(|p| p.0 == bg),
+        "the first model is still drawn"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

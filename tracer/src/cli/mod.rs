@@ -109,6 +109,55 @@ pub fn model_source(src: &ModelArgs, domain: Option<(&str, &str)>) -> Result<Mod
     crate::models::load("MODEL", m, format, domain)
 }
 
+/// The camera flags, shared by `render` and `preview`: each one given replaces that part
+/// of the model's default view.
+#[derive(clap::Args, Debug, Clone, Default)]
+pub struct ViewArgs {
+    /// Eye position X,Y,Z.
+    #[arg(long, allow_hyphen_values = true)]
+    pub eye: Option<String>,
+    /// Point looked at X,Y,Z.
+    #[arg(long = "look-at", allow_hyphen_values = true)]
+    pub look_at: Option<String>,
+    /// Up vector X,Y,Z (default 0,1,0).
+    #[arg(long, allow_hyphen_values = true)]
+    pub up: Option<String>,
+    /// Vertical field of view in degrees.
+    #[arg(long, allow_hyphen_values = true)]
+    pub fov: Option<String>,
+    /// Orthographic camera WIDTH model units across the image (parallel rays along the
+    /// view direction, starting on the image plane through the eye) instead of the
+    /// pinhole; --fov is then unused.
+    #[arg(long, allow_hyphen_values = true, value_name = "WIDTH")]
+    pub ortho: Option<String>,
+}
+
+impl ViewArgs {
+    /// `view` with the given flags applied; an error names the flag and its value.
+    pub fn apply(&self, mut view: crate::shape::View) -> Result<crate::shape::View, String> {
+        if let Some(s) = &self.eye {
+            view.eye = parse_vec3("--eye", s)?;
+        }
+        if let Some(s) = &self.look_at {
+            view.look_at = parse_vec3("--look-at", s)?;
+        }
+        if let Some(s) = &self.up {
+            view.up = parse_vec3("--up", s)?;
+        }
+        if let Some(s) = &self.fov {
+            let f = parse_positive("--fov", s)?;
+            if f >= 180.0 {
+                return Err(format!("--fov '{s}': must be below 180 degrees"));
+            }
+            view.fov_deg = f;
+        }
+        if let Some(s) = &self.ortho {
+            view.ortho = Some(parse_ortho(s)?);
+        }
+        Ok(view)
+    }
+}
+
 /// Parses `--ortho WIDTH`: the view width of an orthographic camera in model units.
 pub fn parse_ortho(s: &str) -> Result<f64, String> {
     parse_positive("--ortho", s)

@@ -31,10 +31,10 @@ pub struct PreviewArgs {
     /// Image size WxH, as for `tracer render` (default 800x800).
     #[arg(long, allow_hyphen_values = true)]
     pub size: Option<String>,
-    /// Orthographic camera WIDTH model units across the image instead of the pinhole
-    /// (cones become cylinders of parallel rays), as for `tracer render --ortho`.
-    #[arg(long, allow_hyphen_values = true, value_name = "WIDTH")]
-    pub ortho: Option<String>,
+    /// The camera: as for `tracer render` (with --ortho, cones become cylinders of
+    /// parallel rays).
+    #[command(flatten)]
+    pub view: super::ViewArgs,
     /// Image width in pixels (or give --size).
     #[arg(long, default_value_t = 800, conflicts_with = "size")]
     pub width: u32,
@@ -250,9 +250,7 @@ pub fn run_preview(args: &PreviewArgs) -> Result<(), String> {
     super::set_threads(args.threads.as_deref())?;
     let mut model =
         super::model_source(&args.src, args.domain.as_deref().map(|d| ("--domain", d)))?;
-    if let Some(s) = &args.ortho {
-        model.view.ortho = Some(super::parse_ortho(s)?);
-    }
+    model.view = args.view.apply(model.view)?;
     let roi = args
         .roi
         .as_deref()
@@ -264,7 +262,8 @@ pub fn run_preview(args: &PreviewArgs) -> Result<(), String> {
     if args.headless {
         run_headless(engine, args, roi)
     } else {
-        window::run_window(engine, args, roi)
+        let view = model.view;
+        window::run_window(engine, model, view, args, roi)
     }
 }
 

@@ -3,44 +3,62 @@
 //!
 //! The display thread (this one: X11 windows belong to the thread that made them) shows
 //! the buffer at a steady frame rate and edits the region of interest: drag with the
-//! left button to set it, right-click to cancel it. Esc, closing the window or Ctrl-C
+//! left button to set it, right-click to cancel it. Dragging with the right button
+//! orbits the view about the point looked at ([`crate::camera::orbit`]), the mouse wheel
+//! zooms ([`crate::camera::zoom`]), and a model file that changes on disk is read again
+//! (a file that does not read keeps the last model, with the error on stderr); each of
+//! these starts the refinement over with a new engine. Esc, closing the window or Ctrl-C
 //! (see [`crate::interrupt`]) stops the refinement. The image is written to `--out` when
 //! refinement completes and when it is stopped early; `--out` is also checkpointed every
 //! few seconds, so even a force-quit (a second Ctrl-C) loses at most the last few
 //! seconds of refinement.
 
-use super::preview::{save_image, PreviewArgs};
-use crate::progressive::{write_png, Engine, Rect, SharedImage, Stats, Step};
-use crate::shape::Shape;
+use super::preview::{options_for, save_image, PreviewArgs};
+use crate::models::Model;
+use crate::progressive::{write_png, Engine, Options, Rect, SharedImage, Stats, Step};
+use crate::shape::{Shape, View};
 use minifb::{Key, MouseButton, MouseMode, Window, WindowOptions};
-use std::path::Path;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::mpsc;
 use std::sync::Arc;
 use std::thread;
-use std::time::Instant;
+use std::time::{Duration, Instant, SystemTime};
 
 /// Messages from the display thread to the refinement thread.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Command {
+pub enum Command<S: Shape> {
     /// Refine this rectangle first.
     SetRoi(Rect),
     /// Refine the whole image again.
     CancelRoi,
+    /// Start over with this engine (a new view or a reloaded model).
+    Restart(Box<Engine<S>>),
 }
 
 /// Seconds between checkpoints of `--out` while the window is open.
 const CHECKPOINT_S: f64 = 5.0;
 
-/// The refinement thread: steps the engine until done or told to stop, applying ROI
-/// commands between samples. Returns the engine's counters and whether it completed.
+/// Seconds between looks at the model file's modification time.
+const RELOAD_POLL_S: f64 = 0.5;
+
+/// Orbit per pixel of a right-button drag, in radians.
+const ORBIT_PER_PIXEL: f64 = 0.01;
+
+/// Distance factor per step of the mouse wheel (towards the point looked at).
+const ZOOM_PER_STEP: f64 = 0.9;
+
+/// The refinement thread: steps its engine until done, then waits, applying commands
+/// between batches of samples, until told to stop. `done` holds the number of the last
+/// engine that completed (the first is 1; 0: none yet). Returns the last engine's
+/// counters and whether it completed.
 fn refine<S: Shape>(
     mut engine: Engine<S>,
     stop: Arc<AtomicBool>,
-    done: Arc<AtomicBool>,
+    done: Arc<AtomicU64>,
     roi_active: Arc<AtomicBool>,
-    rx: mpsc::Receiver<Command>,
+    rx: mpsc::Receiver<Command<S>>,
 ) -> (Stats, bool) {
+    let (mut number, mut complete) = (1u64, false);
     while !stop.load(Ordering::Relaxed) {
         while let Ok(c) = rx.try_recv() {
             match c {
@@ -48,7 +66,16 @@ fn refine<S: Shape>(
                     let _ = engine.set_roi(r);
                 }
                 Command::CancelRoi => engine.cancel_roi(),
+                Command::Restart(e) => {
+                    engine = *e;
+                    number += 1;
+                    complete = false;
+                }
             }
+        }
+        if complete {
+            thread::sleep(Duration::from_millis(10));
+            continue;
         }
         // A batch of samples between checks keeps the flag and channel overhead small.
         for _ in 0..64 {
@@ -58,11 +85,26 @@ fn refine<S: Shape>(
         }
         roi_active.store(engine.roi().is_some(), Ordering::Relaxed);
         if engine.is_done() {
-            done.store(true, Ordering::Relaxed);
-            return (engine.stats(), true);
+            complete = true;
+            done.store(number, Ordering::Relaxed);
         }
     }
-    (engine.stats(), false)
+    (engine.stats(), complete)
+}
+
+/// The model file that `args` reads, if one (a path, not a built-in name or stdin).
+fn watched_file(args: &PreviewArgs) -> Option<PathBuf> {
+    let p = args
+        .src
+        .model
+        .as_deref()
+        .or(args.src.expr_file.as_deref())?;
+    let p = Path::new(p);
+    (p.is_file()).then(|| p.to_path_buf())
+}
+
+fn modified(p: &Path) -> Option<SystemTime> {
+    std::fs::metadata(p).and_then(|m| m.modified()).ok()
 }
 
 /// Writes `out` by way of a temporary file beside it, so a reader never sees half a PNG.
@@ -99,10 +141,12 @@ fn outline(buf: &mut [u32], w: u32, h: u32, r: Rect) {
     }
 }
 
-/// Opens the window and runs the two threads until completion or stop.
-/// `initial_roi` (the `--roi` flag) is set at once.
-pub fn run_window<S: Shape + 'static>(
-    engine: Engine<S>,
+/// Opens the window and runs the two threads until stopped. `engine` renders `model`
+/// from `view` with `opts`; `initial_roi` (the `--roi` flag) is set at once.
+pub fn run_window(
+    engine: Engine<Model>,
+    model: Model,
+    view: View,
     args: &PreviewArgs,
     initial_roi: Option<Rect>,
 ) -> Result<(), String> {
@@ -118,9 +162,11 @@ pub fn run_window<S: Shape + 'static>(
     )
     .map_err(|e| format!("cannot open a window ({e}); use --headless"))?;
     window.set_target_fps(args.fps as usize);
-    let image = engine.image();
+    let mut image = engine.image();
+    let mut opts: Options = *engine.options();
+    let (mut model, mut view) = (model, view);
     let stop = Arc::new(AtomicBool::new(false));
-    let done = Arc::new(AtomicBool::new(false));
+    let done = Arc::new(AtomicU64::new(0));
     let roi_active = Arc::new(AtomicBool::new(false));
     let (tx, rx) = mpsc::channel();
     let start = Instant::now();
@@ -138,7 +184,13 @@ pub fn run_window<S: Shape + 'static>(
         roi_active.store(true, Ordering::Relaxed);
         let _ = tx.send(Command::SetRoi(r));
     }
-    let mut right_was_down = false;
+    // The engine's number (as `refine` counts them).
+    let mut number = 1u64;
+    // A right-button press: where, the view then, and whether it has moved (an orbit).
+    let mut orbit_from: Option<((u32, u32), View, bool)> = None;
+    let watched = watched_file(args);
+    let mut stamp = watched.as_deref().and_then(modified);
+    let mut last_poll = Instant::now();
     let mut completed_written = false;
     let mut last_checkpoint = Instant::now();
     let mut frames = 0u64;
@@ -172,12 +224,75 @@ pub fn run_window<S: Shape + 'static>(
             }
             _ => {}
         }
+        // A right click cancels the region; a right drag orbits, the wheel zooms, a
+        // changed file reloads: each restarts the refinement.
+        let mut restart: Option<(Option<(Model, Options)>, View)> = None;
         let right = window.get_mouse_down(MouseButton::Right);
-        if right && !right_was_down {
-            roi = None;
-            let _ = tx.send(Command::CancelRoi);
+        match (right, orbit_from, mouse_px(&window)) {
+            (true, None, Some(p)) => orbit_from = Some((p, view, false)),
+            (true, Some((p0, v0, moved)), Some(p)) => {
+                let (dx, dy) = (p.0 as f64 - p0.0 as f64, p.1 as f64 - p0.1 as f64);
+                if moved || dx.abs() + dy.abs() > 2.0 {
+                    orbit_from = Some((p0, v0, true));
+                    let v = crate::camera::orbit(&v0, -dx * ORBIT_PER_PIXEL, dy * ORBIT_PER_PIXEL);
+                    if v != view {
+                        restart = Some((None, v));
+                    }
+                }
+            }
+            (false, Some((_, _, moved)), _) => {
+                orbit_from = None;
+                if !moved {
+                    roi = None;
+                    let _ = tx.send(Command::CancelRoi);
+                }
+            }
+            _ => {}
         }
-        right_was_down = right;
+        if let Some((_, steps)) = window.get_scroll_wheel() {
+            if steps != 0.0 {
+                let v = crate::camera::zoom(&view, ZOOM_PER_STEP.powf(steps as f64));
+                restart = Some((None, v));
+            }
+        }
+        if let Some(path) = &watched {
+            if last_poll.elapsed().as_secs_f64() >= RELOAD_POLL_S {
+                last_poll = Instant::now();
+                let now = modified(path);
+                if now != stamp {
+                    stamp = now;
+                    let domain = args.domain.as_deref().map(|d| ("--domain", d));
+                    match super::model_source(&args.src, domain)
+                        .and_then(|m| options_for(args, &m).map(|o| (m, o)))
+                    {
+                        Ok(mo) => {
+                            crate::say!("reloaded {}", path.display());
+                            restart = Some((Some(mo), view));
+                        }
+                        Err(e) => eprintln!("reload of {} failed: {e}", path.display()),
+                    }
+                }
+            }
+        }
+        if let Some((new_model, v)) = restart {
+            let (m, o) = new_model.unwrap_or_else(|| (model.clone(), opts));
+            match Engine::new(m.clone(), m.domain, v, w, h, o) {
+                Ok(e) => {
+                    (model, opts, view) = (m, o, v);
+                    image = e.image();
+                    number += 1;
+                    let _ = tx.send(Command::Restart(Box::new(e)));
+                    roi = None;
+                    drag = None;
+                    roi_active.store(false, Ordering::Relaxed);
+                    if completed_written {
+                        completed_written = false;
+                        window.set_title(&format!("tracer preview: {}", args.title()));
+                    }
+                }
+                Err(e) => eprintln!("cannot restart the preview: {e}"),
+            }
+        }
         if roi.is_some() && !roi_active.load(Ordering::Relaxed) && drag.is_none() && frames % 8 == 7
         {
             // The refinement thread finished the region.
@@ -194,7 +309,7 @@ pub fn run_window<S: Shape + 'static>(
             break Err(format!("window update failed: {e}"));
         }
         frames += 1;
-        if done.load(Ordering::Relaxed) && !completed_written {
+        if done.load(Ordering::Relaxed) == number && !completed_written {
             completed_written = true;
             window.set_title(&format!(
                 "tracer preview: {} (complete, {:.2} s)",
