@@ -144,7 +144,8 @@ enum Cmd {
         /// Comma-separated methods (default: the paper's three and the default previewer).
         #[arg(long)]
         methods: Option<String>,
-        #[arg(long, default_value = "docs")]
+        /// Output folder (the default is where the README's figure lives).
+        #[arg(long, default_value = "docs/progressive")]
         out: PathBuf,
     },
     /// Our Mitchell counts against the progressive-refinement paper's Table 1, one
@@ -168,7 +169,8 @@ enum Cmd {
         /// The level at whose start the region is set.
         #[arg(long, default_value_t = 3)]
         roi_level: usize,
-        #[arg(long, default_value = "docs")]
+        /// Output folder (the default is where the README's figure lives).
+        #[arg(long, default_value = "docs/progressive")]
         out: PathBuf,
     },
     /// Cost against model size: scenes of N balls (max and R-function unions) and the
