@@ -196,7 +196,7 @@ pub fn run(o: &Options, mut progress: impl FnMut(&Point)) -> Result<Vec<Point>, 
             let model = Model::formula(&text, Some(domain))?;
             let tag = match join {
                 Join::Max => "max",
-                Join::RUnion => "|",
+                Join::RUnion => "union",
             };
             let p = measure_model(&format!("{n} balls, {tag}"), &model, o.pixels, o)?;
             progress(&p);
