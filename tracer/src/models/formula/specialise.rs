@@ -28,7 +28,7 @@
 use super::tape::{finish, with_registers, Builder, Instr, Op, Tape, Val};
 use crate::models::formula::branch::Step;
 use arith_core::{Known, Range, Real};
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 use std::sync::Mutex;
 
 /// Tapes shorter than this are evaluated whole: building a tape costs more than a
@@ -113,7 +113,7 @@ impl Specialiser {
             sign_only,
             watch,
             worth: n >= MIN_SPECIALISE_LEN && choices + signs > 0,
-            cache: Mutex::new(HashMap::new()),
+            cache: Mutex::new(HashMap::default()),
         }
     }
 
@@ -243,7 +243,7 @@ impl Tape {
             .map(|r| self.watched_bounds(spec, r))
             .collect();
         let mut tapes: Vec<Tape> = Vec::new();
-        let mut built: HashMap<Vec<u8>, Option<usize>> = HashMap::new();
+        let mut built: HashMap<Vec<u8>, Option<usize>> = HashMap::default();
         let which = groups
             .iter()
             .map(|&(i, j)| {
@@ -328,7 +328,7 @@ fn rebuild(ins: &[Instr], sign_only: &[bool], decisions: &[u8]) -> Tape {
             }
         }
     }
-    let mut b = Builder::new();
+    let mut b = Builder::with_capacity(live.iter().filter(|&&l| l).count());
     let mut map: Vec<Val> = vec![Val::C(f64::NAN); n];
     for (k, i) in ins.iter().enumerate() {
         if !live[k] {

@@ -18,9 +18,9 @@ use super::ast::{BinOp, Expr, Func, Program, Var};
 use super::branch::{select, step, Step};
 use arith_core::round::two_sum;
 use arith_core::{rfunc, Real};
+use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 use std::any::Any;
 use std::cell::RefCell;
-use std::collections::{HashMap, HashSet};
 use std::fmt;
 use std::sync::{Arc, OnceLock};
 
@@ -286,10 +286,15 @@ pub(super) struct Builder {
 
 impl Builder {
     pub(super) fn new() -> Self {
+        Builder::with_capacity(0)
+    }
+
+    /// A builder with room for `n` instructions.
+    pub(super) fn with_capacity(n: usize) -> Self {
         Builder {
-            ins: Vec::new(),
-            memo: HashMap::new(),
-            bools: HashSet::new(),
+            ins: Vec::with_capacity(n),
+            memo: HashMap::with_capacity_and_hasher(n, Default::default()),
+            bools: HashSet::default(),
         }
     }
 
