@@ -7,17 +7,27 @@ use std::time::Duration;
 
 mod common;
 use common::start_xvfb;
-
-/// One test at a time: two Xvfb servers started at once can race for one display.
-static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
+use std::sync::{Mutex, MutexGuard};
 use tracer::cli::preview::{run_preview, PreviewArgs};
 use tracer::cli::ModelArgs;
 
+/// One test at a time: two Xvfb servers started at once can race for one display.
+static ONE_AT_A_TIME: Mutex<()> = Mutex::new(());
+
+/// A virtual display for this test alone (held until the guard drops), or `None`
+/// with a message where Xvfb is not installed.
+fn display_alone() -> Option<(MutexGuard<'static, ()>, String, std::process::Child)> {
+    let one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let Some((display, xvfb)) = start_xvfb() else {
+        println!("skipped: Xvfb is not installed");
+        return None;
+    };
+    Some((one, display, xvfb))
+}
+
 #[test]
 fn window_refines_for_a_second_then_stops_and_writes_the_image() {
-    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
-    let Some((display, mut xvfb)) = start_xvfb() else {
-        println!("skipped: Xvfb is not installed");
+    let Some((_one, display, mut xvfb)) = display_alone() else {
         return;
     };
     // The other test here passes DISPLAY to a child process; none reads it in-process.
@@ -72,9 +82,7 @@ fn window_refines_for_a_second_then_stops_and_writes_the_image() {
 /// read keeps the last model (the error on stderr), one that does replaces it.
 #[test]
 fn window_reloads_a_changed_model_file() {
-    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
-    let Some((display, mut xvfb)) = start_xvfb() else {
-        println!("skipped: Xvfb is not installed");
+    let Some((_one, display, mut xvfb)) = display_alone() else {
         return;
     };
     let dir = std::env::temp_dir().join(format!("tracer-reload-{}", std::process::id()));

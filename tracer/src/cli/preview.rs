@@ -262,8 +262,7 @@ pub fn run_preview(args: &PreviewArgs) -> Result<(), String> {
     if args.headless {
         run_headless(engine, args, roi)
     } else {
-        let view = model.view;
-        window::run_window(engine, model, view, args, roi)
+        window::run_window(engine, model, args, roi)
     }
 }
 

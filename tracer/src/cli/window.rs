@@ -142,11 +142,10 @@ fn outline(buf: &mut [u32], w: u32, h: u32, r: Rect) {
 }
 
 /// Opens the window and runs the two threads until stopped. `engine` renders `model`
-/// from `view` with `opts`; `initial_roi` (the `--roi` flag) is set at once.
+/// from its view; `initial_roi` (the `--roi` flag) is set at once.
 pub fn run_window(
     engine: Engine<Model>,
     model: Model,
-    view: View,
     args: &PreviewArgs,
     initial_roi: Option<Rect>,
 ) -> Result<(), String> {
@@ -164,7 +163,8 @@ pub fn run_window(
     window.set_target_fps(args.fps as usize);
     let mut image = engine.image();
     let mut opts: Options = *engine.options();
-    let (mut model, mut view) = (model, view);
+    let mut view = model.view;
+    let mut model = model;
     let stop = Arc::new(AtomicBool::new(false));
     let done = Arc::new(AtomicU64::new(0));
     let roi_active = Arc::new(AtomicBool::new(false));

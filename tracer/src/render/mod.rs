@@ -533,6 +533,7 @@ fn render_tile<A: Arithmetic, S: Shape>(
         (o + d * t, params.precision.at(t).max(scale * SHADING_STEP))
     };
     let block_len = if by_values { SHADE_BLOCK } else { 1 };
+    let mut at: Vec<(DVec3, f64)> = Vec::with_capacity(SHADE_GROUP);
     for block in hits.chunks(block_len) {
         // The block's shape first (over the box of all its samples), each group's from it.
         let values_over = |base: &S, b: &SampleBox, st: &mut RenderStats| {
@@ -553,7 +554,7 @@ fn render_tile<A: Arithmetic, S: Shape>(
             // A group: up to SHADE_GROUP hits whose samples fit in a box a few steps wide
             // (a depth jump starts a new one).
             let mut b = SampleBox::EMPTY;
-            let mut at: Vec<(DVec3, f64)> = Vec::with_capacity(SHADE_GROUP);
+            at.clear();
             for hit in rest.iter().take(SHADE_GROUP) {
                 let (p, h) = sample_at(hit);
                 let wider = b.with((p, h));

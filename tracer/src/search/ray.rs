@@ -761,13 +761,7 @@ mod tests {
             .chain(crate::models::progressive::all());
         for m in models {
             let cam = crate::camera::Camera::try_new(m.view, 64, 64).unwrap();
-            let params = RayParams {
-                precision: Precision {
-                    abs: 1e-4 * (m.domain.max - m.domain.min).length(),
-                    rel: 0.0,
-                },
-                pruning: true,
-            };
+            let params = pruned_at(&m, 1e-4);
             let mut jobs = Vec::new();
             // Rays until 16 meet the domain (the draws are shared between models).
             for _ in 0..400 {
@@ -814,19 +808,24 @@ mod tests {
         }
     }
 
+    /// Pruning on, an absolute precision of `rel` times the model's domain diagonal.
+    fn pruned_at(m: &crate::models::Model, rel: f64) -> RayParams {
+        RayParams {
+            precision: Precision {
+                abs: rel * (m.domain.max - m.domain.min).length(),
+                rel: 0.0,
+            },
+            pruning: true,
+        }
+    }
+
     /// A stop ends the search: the rays it reports are found as alone, the rest are not
     /// reported, and without a stop every ray is.
     #[test]
     fn a_stop_ends_the_search_and_keeps_what_finished() {
         let m = crate::models::PaperModel::Mitchell.model();
         let cam = crate::camera::Camera::try_new(m.view, 32, 32).unwrap();
-        let params = RayParams {
-            precision: Precision {
-                abs: 1e-9 * (m.domain.max - m.domain.min).length(),
-                rel: 0.0,
-            },
-            pruning: true,
-        };
+        let params = pruned_at(&m, 1e-9);
         let jobs: Vec<RayJob> = (0..32 * 32)
             .filter_map(|k| {
                 let (o, d) = cam.ray_at((k % 32) as f64 + 0.5, (k / 32) as f64 + 0.5);

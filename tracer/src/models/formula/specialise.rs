@@ -205,7 +205,7 @@ impl Tape {
         if decisions.iter().all(|&d| d == KEEP) {
             return None;
         }
-        let t = rebuild(ins, &vec![false; ins.len()], &decisions);
+        let t = rebuild(ins, None, &decisions);
         (t.len() < ins.len()).then_some(t)
     }
 
@@ -294,7 +294,7 @@ impl Tape {
                 return t.clone();
             }
         }
-        let t = rebuild(ins, &spec.sign_only, decisions);
+        let t = rebuild(ins, Some(&spec.sign_only), decisions);
         let t = (t.len() < ins.len()).then_some(t);
         if let Ok(mut cache) = spec.cache.lock() {
             if cache.len() < CACHE_LIMIT {
@@ -305,8 +305,9 @@ impl Tape {
     }
 }
 
-/// The tape `ins` with `decisions` applied, simplified and stripped of dead code.
-fn rebuild(ins: &[Instr], sign_only: &[bool], decisions: &[u8]) -> Tape {
+/// The tape `ins` with `decisions` applied, simplified and stripped of dead code;
+/// registers marked in `sign_only` (none where `None`) are folded by sign.
+fn rebuild(ins: &[Instr], sign_only: Option<&[bool]>, decisions: &[u8]) -> Tape {
     let n = ins.len();
     // What the result still reads once the decisions are made (emitting the rest would
     // only be undone by `finish`).
@@ -340,7 +341,12 @@ fn rebuild(ins: &[Instr], sign_only: &[bool], decisions: &[u8]) -> Tape {
             NEG => Val::C(-1.0),
             TAKE_A => arg(0),
             TAKE_B => arg(1),
-            _ => reemit(&mut b, i, [arg(0), arg(1), arg(2)], sign_only[k]),
+            _ => reemit(
+                &mut b,
+                i,
+                [arg(0), arg(1), arg(2)],
+                sign_only.is_some_and(|s| s[k]),
+            ),
         };
     }
     let out = b.reg(map[n - 1]);
