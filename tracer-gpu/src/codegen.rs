@@ -198,6 +198,9 @@ fn model_fn(p: &Program, fl: Flavour) -> String {
             (Op::Min(a, b), _) => bin("min", a, b),
             (Op::Max(a, b), _) => bin("max", a, b),
             (Op::Hypot(a, b), _) => bin("hypot", a, b),
+            (Op::Gt0(a), _) => un("gt0", a),
+            (Op::Ge0(a), _) => un("ge0", a),
+            (Op::Select(c, t, e), _) => format!("{pre}_select({}, {}, {})", r(c), r(t), r(e)),
         };
         let _ = writeln!(s, "    let r{k} = {e};");
     }

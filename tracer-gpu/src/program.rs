@@ -59,6 +59,13 @@ pub enum Op {
     Max(u32, u32),
     /// `sqrt(a^2 + b^2)` (the R-functions' root; affine forms know its argument's floor)
     Hypot(u32, u32),
+    /// `a > 0`: 1 or 0 (the range `[0, 1]` where undecided)
+    Gt0(u32),
+    /// `a >= 0`: 1 or 0 (the range `[0, 1]` where undecided)
+    Ge0(u32),
+    /// `t` where the truth value `c` is above 1/2, else `e` (the hull where undecided):
+    /// `Select(c, t, e)`
+    Select(u32, u32, u32),
 }
 
 impl Op {
@@ -77,6 +84,8 @@ impl Op {
             | Sin(a)
             | Cos(a)
             | Abs(a)
+            | Gt0(a)
+            | Ge0(a)
             | AddC(a, _)
             | MulC(a, _)
             | DivC(a, _)
@@ -85,6 +94,7 @@ impl Op {
             Add(a, b) | Sub(a, b) | Mul(a, b) | Div(a, b) | Min(a, b) | Max(a, b) | Hypot(a, b) => {
                 vec![a, b]
             }
+            Select(c, t, e) => vec![c, t, e],
         }
     }
 }
@@ -156,6 +166,15 @@ impl Program {
                 Op::Min(a, b) => g(a).min(g(b)),
                 Op::Max(a, b) => g(a).max(g(b)),
                 Op::Hypot(a, b) => (g(a) * g(a) + g(b) * g(b)).sqrt(),
+                Op::Gt0(a) => f64::from(u8::from(g(a) > 0.0)),
+                Op::Ge0(a) => f64::from(u8::from(g(a) >= 0.0)),
+                Op::Select(c, t, e) => {
+                    if g(c) > 0.5 {
+                        g(t)
+                    } else {
+                        g(e)
+                    }
+                }
             };
             r.push(v);
         }

@@ -29,12 +29,18 @@ fn gpu_kinds() -> Vec<ArithKind> {
 #[test]
 fn gpu_hits_every_pixel_the_cpu_proves_and_agrees_on_depth() {
     let Some(gpu) = common::gpu() else { return };
-    for name in ["mitchell", "bretzel", "csg"] {
-        let model = tracer::models::find(name).unwrap();
-        let program = tracer::gpu::record::program_of(&model).unwrap();
+    let mut models: Vec<_> = ["mitchell", "bretzel", "csg"]
+        .into_iter()
+        .map(|name| tracer::models::find(name).unwrap())
+        .collect();
+    // Conditionals (a step, a select, an undecided hull across x = 0).
+    models.push(tracer::models::Model::formula(CONDITIONAL, None).unwrap());
+    for model in &models {
+        let name = &model.name;
+        let program = tracer::gpu::record::program_of(model).unwrap();
         for kind in gpu_kinds() {
             for culling in [false, true] {
-                let mut opts = RenderOptions::new(&model, N, N);
+                let mut opts = RenderOptions::new(model, N, N);
                 opts.culling = culling;
                 let cpu = render_kind(kind, &model.shape, &opts).unwrap();
                 let (frame, cam) = tracer::gpu::frame(&opts).unwrap();
@@ -85,6 +91,9 @@ fn gpu_hits_every_pixel_the_cpu_proves_and_agrees_on_depth() {
         }
     }
 }
+
+const CONDITIONAL: &str =
+    "if(x > 0, 1.6 - x^2 - y^2 - z^2, if(y >= 0.2, 1.2 - x^2 - y^2 - z^2, 1 - x^2 - y^2 - z^2))";
 
 struct Ball;
 impl Shape for Ball {

@@ -279,6 +279,27 @@ fn af_max(a: AF, b: AF) -> AF {
     return af_from_ia(ia_max(x, y));
 }
 
+// Truth values and branches as in IA, on the forms' bounds; an undecided branch is the
+// hull of both as an interval (no symbol is shared with either branch).
+fn af_gt0(a: AF) -> AF {
+    return af_from_ia(ia_gt0(af_bounds(a)));
+}
+
+fn af_ge0(a: AF) -> AF {
+    return af_from_ia(ia_ge0(af_bounds(a)));
+}
+
+fn af_select(c: AF, t: AF, e: AF) -> AF {
+    let b = af_bounds(c);
+    if (b.lo > 0.5) {
+        return t;
+    }
+    if (b.hi < 0.5) {
+        return e;
+    }
+    return af_from_ia(ia_select(b, af_bounds(t), af_bounds(e)));
+}
+
 // x = o + t d over the input symbol t = m + r eps: o and d as mid +- rad.
 fn af_coord(om: f32, orad: f32, dm: f32, drad: f32, t: AF) -> AF {
     let p = opq(dm * t.c);

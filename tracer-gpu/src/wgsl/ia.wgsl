@@ -236,6 +236,39 @@ fn ia_max(a: IA, b: IA) -> IA {
     return IA(max(a.lo, b.lo), max(a.hi, b.hi));
 }
 
+// Truth values: exact 0 or 1 where the bounds decide the comparison, else [0, 1]. The
+// bounds enclose the value, so a decided comparison holds at every point.
+fn ia_gt0(a: IA) -> IA {
+    if (a.lo > 0.0) {
+        return IA(1.0, 1.0);
+    }
+    if (a.hi <= 0.0) {
+        return IA(0.0, 0.0);
+    }
+    return IA(0.0, 1.0);
+}
+
+fn ia_ge0(a: IA) -> IA {
+    if (a.lo >= 0.0) {
+        return IA(1.0, 1.0);
+    }
+    if (a.hi < 0.0) {
+        return IA(0.0, 0.0);
+    }
+    return IA(0.0, 1.0);
+}
+
+// The branch the truth value c picks at every point (c > 1/2: t), else the hull of both.
+fn ia_select(c: IA, t: IA, e: IA) -> IA {
+    if (c.lo > 0.5) {
+        return t;
+    }
+    if (c.hi < 0.5) {
+        return e;
+    }
+    return IA(min(t.lo, e.lo), max(t.hi, e.hi));
+}
+
 fn ia_bounds(a: IA) -> IA {
     if (ia_ent(a)) {
         return IA_ENTIRE;

@@ -53,8 +53,8 @@ pub fn program_of(model: &Model) -> Result<Program, String> {
 }
 
 /// A formula's tape as a program (the R-functions expand to `a + b -+ hypot(a, b)`).
-/// Errors for the operations the GPU programs do not have yet: the blends and the
-/// conditionals of the formula language and HyperFun.
+/// Errors for the operations the GPU programs do not have yet: the formula language's
+/// blends.
 pub fn from_tape(t: &Tape) -> Result<Program, String> {
     let mut p = Program::default();
     // Tape register k -> program register.
@@ -99,7 +99,14 @@ pub fn from_tape(t: &Tape) -> Result<Program, String> {
                     _ => p.push(Op::Sub(s, h)),
                 }
             }
-            TOp::BlendUnion | TOp::BlendIntersect | TOp::Gt0 | TOp::Ge0 | TOp::Select => {
+            TOp::Gt0 => p.push(Op::Gt0(a)),
+            TOp::Ge0 => p.push(Op::Ge0(a)),
+            TOp::Select => p.push(Op::Select(
+                a,
+                b,
+                reg.get(i.e as usize).copied().unwrap_or(0),
+            )),
+            TOp::BlendUnion | TOp::BlendIntersect => {
                 return Err(format!(
                     "the formula uses '{}', which the GPU renderer does not support yet",
                     i.op.name()
