@@ -69,6 +69,19 @@
 //! eye and each direction as an `f32` midpoint and a radius rounded up, so the bundle
 //! holds the `f64` ray exactly.
 //!
+//! The R-functions are single operations ([`Op::RUnion`], [`Op::RIntersect`]): written
+//! out, `a + b + sqrt(a^2 + b^2)` with `a` small and `b` far below zero (a union with a
+//! distant part of a scene) cancels to the rounding of `b`'s size, which in `f32` is
+//! larger than any value near the surface, and no pixel could be confirmed. With
+//! `m < 0` the smaller operand and `o` the other, `m + sqrt(o^2 + m^2) = o^2 / (h - m)`
+//! with `h - m >= -m > 0`, so the union is `o + o^2 / (h - m)`, free of cancellation;
+//! the intersection is `-union(-a, -b)`. IA evaluates it at the two corners of the
+//! operands' box (the union is nondecreasing in both operands, since
+//! `1 + a / sqrt(a^2 + b^2) >= 0`), each corner in outward-rounded IA; the affine forms
+//! use the rewritten form where `m` is proved negative and at least as large in
+//! magnitude as `o`, and the written-out one elsewhere (both are compositions of sound
+//! operations).
+//!
 //! **Far from the origin** the `f32` ranges get wide: a segment then stops being split
 //! when its midpoint no longer lies strictly inside it, and the pixel is reported as
 //! [`Status::Unconfirmed`] (a hit that may be spurious), never as a miss; coordinates at

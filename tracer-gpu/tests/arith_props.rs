@@ -10,7 +10,7 @@ use tracer_gpu::{codegen, GpuArith};
 
 const OPS: &[&str] = &[
     "add", "sub", "mul", "div", "min", "max", "hypot", "neg", "sqr", "sqrt", "recip", "exp", "ln",
-    "sin", "cos", "abs", "powi", "addc", "mulc",
+    "sin", "cos", "abs", "powi", "addc", "mulc", "runion", "rinter", "gt0", "ge0", "select",
 ];
 const WORDS_IN: usize = 10;
 const WORDS_OUT: usize = 5;
@@ -36,7 +36,11 @@ fn kernel(arith: GpuArith) -> String {
     let mut cases = String::new();
     for (k, op) in OPS.iter().enumerate() {
         let call = match *op {
-            "add" | "sub" | "mul" | "div" | "min" | "max" | "hypot" => format!("{pre}_{op}(x, y)"),
+            "add" | "sub" | "mul" | "div" | "min" | "max" | "hypot" | "runion" | "rinter" => {
+                format!("{pre}_{op}(x, y)")
+            }
+            // x > 1/2 picks y, else -y
+            "select" => format!("{pre}_select(x, y, {pre}_neg(y))"),
             "powi" => format!("{pre}_powi(x, n)"),
             "addc" | "mulc" => format!("{pre}_{op}(x, klo, khi)"),
             _ => format!("{pre}_{op}(x)"),
@@ -203,6 +207,22 @@ fn exact(name: &str, x: &Mp, xf: f64, y: &Mp, yf: f64, n: i32, k: f64) -> Option
             x.powi(n)?
         }
         "addc" => x.add(&mp(k))?,
+        "runion" => x.add(y)?.add(&x.sqr()?.add(&y.sqr()?)?.sqrt()?)?,
+        "rinter" => x.add(y)?.sub(&x.sqr()?.add(&y.sqr()?)?.sqrt()?)?,
+        "gt0" | "ge0" => {
+            let pos = x.verdict(f64::NEG_INFINITY, 0.0) == Verdict::Outside;
+            let neg = x.verdict(0.0, f64::INFINITY) == Verdict::Outside;
+            mp(f64::from(u8::from(pos || (!neg && name == "ge0"))))
+        }
+        "select" => {
+            if x.verdict(f64::NEG_INFINITY, 0.5) == Verdict::Outside {
+                y.clone()
+            } else if x.verdict(0.5, f64::INFINITY) == Verdict::Outside {
+                y.neg()
+            } else {
+                return None; // x exactly 1/2
+            }
+        }
         "mulc" => x.mul(&mp(k))?,
         _ => unreachable!(),
     })

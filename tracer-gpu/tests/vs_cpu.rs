@@ -35,6 +35,8 @@ fn gpu_hits_every_pixel_the_cpu_proves_and_agrees_on_depth() {
         .collect();
     // Conditionals (a step, a select, an undecided hull across x = 0).
     models.push(tracer::models::Model::formula(CONDITIONAL, None).unwrap());
+    // The formula language's blends and R-functions, fused when converted.
+    models.push(tracer::models::Model::formula(BLENDS, None).unwrap());
     for model in &models {
         let name = &model.name;
         let program = tracer::gpu::record::program_of(model).unwrap();
@@ -94,6 +96,9 @@ fn gpu_hits_every_pixel_the_cpu_proves_and_agrees_on_depth() {
 
 const CONDITIONAL: &str =
     "if(x > 0, 1.6 - x^2 - y^2 - z^2, if(y >= 0.2, 1.2 - x^2 - y^2 - z^2, 1 - x^2 - y^2 - z^2))";
+
+const BLENDS: &str = "blend_union(2.2 - x^2 - y^2 - z^2, 0.3 - (x - 1.2)^2 - y^2) \\ \
+    blend_intersect(0.6 - x^2 - (z - 1.2)^2, y + 0.3) | (0.1 - x^2 - (y + 1)^2 - z^2)";
 
 struct Ball;
 impl Shape for Ball {

@@ -212,6 +212,35 @@ fn af_hypot(a: AF, b: AF) -> AF {
     return af_sqrt_floor(af_add(af_sqr(a), af_sqr(b)), fl);
 }
 
+// The R-union a + b + sqrt(a^2 + b^2). Written out, its sum cancels where one operand
+// m is negative and at least as large in magnitude as the other, o, is anywhere: the
+// rounding of the three terms (of m's size) then swamps the result (of o's size at
+// most). There it is o + o^2 / (h - m), whose terms are of o's size or smaller and
+// whose h - m >= -m > 0; o keeps its symbol, so pruning still sees the slope.
+fn af_runion(a: AF, b: AF) -> AF {
+    let ba = af_bounds(a);
+    let bb = af_bounds(b);
+    var m = b;
+    var o = a;
+    var bm = bb;
+    var bo = ba;
+    if (ba.hi < bb.hi) {
+        m = a;
+        o = b;
+        bm = ba;
+        bo = bb;
+    }
+    if (bm.hi < 0.0 && ia_mag(bo) <= -bm.hi) {
+        return af_add(o, af_div(af_sqr(o), af_sub(af_hypot(o, m), m)));
+    }
+    return af_add(af_add(a, b), af_hypot(a, b));
+}
+
+// The R-intersection: -g(-a, -b).
+fn af_rinter(a: AF, b: AF) -> AF {
+    return af_neg(af_runion(af_neg(a), af_neg(b)));
+}
+
 // Min-range with alpha = a lower bound of e^lo: g = e^x - alpha x increases.
 fn af_exp(a: AF) -> AF {
     let b = af_bounds(a);

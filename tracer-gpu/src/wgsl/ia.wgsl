@@ -161,6 +161,34 @@ fn ia_hypot(a: IA, b: IA) -> IA {
     return ia_sqrt(ia_add(ia_sqr(a), ia_sqr(b)));
 }
 
+// g(a, b) = a + b + sqrt(a^2 + b^2) at the exact point (a, b), enclosed. With m < 0
+// the smaller operand and o the other, m + sqrt(o^2 + m^2) = o^2 / (h - m), where
+// h - m >= -m > 0: no cancellation, however far below o the operand m lies.
+fn ia_runion_at(a: f32, b: f32) -> IA {
+    let m = min(a, b);
+    let o = max(a, b);
+    let h = ia_hypot(ia_point(a), ia_point(b));
+    if (m >= 0.0) {
+        return ia_add(ia_add(ia_point(a), ia_point(b)), h);
+    }
+    return ia_add(ia_point(o), ia_div(ia_sqr(ia_point(o)), ia_sub(h, ia_point(m))));
+}
+
+// The R-union. dg/da = 1 + a / sqrt(a^2 + b^2) >= 0 and likewise in b (g is continuous
+// at the origin), so g is nondecreasing in both operands: its range over a box lies
+// between its values at the lower and the upper corner.
+fn ia_runion(a: IA, b: IA) -> IA {
+    if (ia_ent(a) || ia_ent(b)) {
+        return IA_ENTIRE;
+    }
+    return IA(ia_runion_at(a.lo, b.lo).lo, ia_runion_at(a.hi, b.hi).hi);
+}
+
+// The R-intersection: a + b - sqrt(a^2 + b^2) = -g(-a, -b).
+fn ia_rinter(a: IA, b: IA) -> IA {
+    return ia_neg(ia_runion(ia_neg(a), ia_neg(b)));
+}
+
 fn ia_exp(a: IA) -> IA {
     if (ia_ent(a) || a.hi > 41.0) {
         return IA(exp_dn(max(a.lo, -100.0)), BIG);

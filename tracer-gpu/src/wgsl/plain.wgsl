@@ -21,6 +21,15 @@ fn pt_div(a: f32, b: f32) -> f32 { return a / b; }
 fn pt_min(a: f32, b: f32) -> f32 { return min(a, b); }
 fn pt_max(a: f32, b: f32) -> f32 { return max(a, b); }
 fn pt_hypot(a: f32, b: f32) -> f32 { return sqrt(a * a + b * b); }
+// As ia_runion_at: o + o^2 / (h - m) when the smaller operand m is negative.
+fn pt_runion(a: f32, b: f32) -> f32 {
+    let m = min(a, b);
+    let o = max(a, b);
+    let h = sqrt(a * a + b * b);
+    if (m >= 0.0) { return a + b + h; }
+    return o + o * o / (h - m);
+}
+fn pt_rinter(a: f32, b: f32) -> f32 { return -pt_runion(-a, -b); }
 fn pt_gt0(a: f32) -> f32 { return select(0.0, 1.0, a > 0.0); }
 fn pt_ge0(a: f32) -> f32 { return select(0.0, 1.0, a >= 0.0); }
 fn pt_select(c: f32, t: f32, e: f32) -> f32 { return select(e, t, c > 0.5); }

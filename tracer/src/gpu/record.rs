@@ -1,9 +1,9 @@
 //! Models as GPU programs: a formula's tape converts operation by operation; a model
 //! written in generic Rust over [`Real`] is recorded by evaluating it once over
 //! [`Recorder`], a `Real` whose operations append to a [`Program`] instead of computing.
-//! The recording is the model's own code, so the GPU evaluates exactly the operations
-//! the CPU arithmetics do (R-functions' `hypot` included, which the affine forms bound
-//! with the floor of its argument).
+//! The recording is the model's own code, so the GPU evaluates the operations the CPU
+//! arithmetics do, except that the R-functions become single operations, which `f32`
+//! evaluates without the cancellation of their written-out sum.
 
 use crate::models::formula::{Op as TOp, Tape};
 use crate::models::{AnyShape, Model};
@@ -25,7 +25,8 @@ fn push(op: Op) -> Recorder {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Recorder(pub u32);
 
-/// Records `f` over the inputs `x`, `y`, `z` into a program (on this thread).
+/// Records `f` over the inputs `x`, `y`, `z` into a program (on this thread), with the
+/// R-functions it writes out fused ([`Program::fuse_rfunctions`]).
 pub fn record(f: impl FnOnce(Recorder, Recorder, Recorder) -> Recorder) -> Program {
     PROGRAM.with(|p| *p.borrow_mut() = Program::default());
     let (x, y, z) = (push(Op::X), push(Op::Y), push(Op::Z));
@@ -35,6 +36,7 @@ pub fn record(f: impl FnOnce(Recorder, Recorder, Recorder) -> Recorder) -> Progr
         // The result is an earlier value (an input, say): copy it to the end.
         p.push(Op::AddC(out.0, 0.0));
     }
+    p.fuse_rfunctions();
     p
 }
 
@@ -52,9 +54,7 @@ pub fn program_of(model: &Model) -> Result<Program, String> {
     }
 }
 
-/// A formula's tape as a program (the R-functions expand to `a + b -+ hypot(a, b)`).
-/// Errors for the operations the GPU programs do not have yet: the formula language's
-/// blends.
+/// A formula's tape as a program.
 pub fn from_tape(t: &Tape) -> Result<Program, String> {
     let mut p = Program::default();
     // Tape register k -> program register.
@@ -88,17 +88,9 @@ pub fn from_tape(t: &Tape) -> Result<Program, String> {
             TOp::Div => p.push(Op::Div(a, b)),
             TOp::Min => p.push(Op::Min(a, b)),
             TOp::Max => p.push(Op::Max(a, b)),
-            TOp::Intersect | TOp::Union | TOp::Subtract => {
-                let h = p.push(Op::Hypot(a, b));
-                let s = match i.op {
-                    TOp::Subtract => p.push(Op::Sub(a, b)),
-                    _ => p.push(Op::Add(a, b)),
-                };
-                match i.op {
-                    TOp::Union => p.push(Op::Add(s, h)),
-                    _ => p.push(Op::Sub(s, h)),
-                }
-            }
+            TOp::Union => p.push(Op::RUnion(a, b)),
+            TOp::Intersect => p.push(Op::RIntersect(a, b)),
+            TOp::Subtract => p.push(Op::RSubtract(a, b)),
             TOp::Gt0 => p.push(Op::Gt0(a)),
             TOp::Ge0 => p.push(Op::Ge0(a)),
             TOp::Select => p.push(Op::Select(
@@ -107,10 +99,20 @@ pub fn from_tape(t: &Tape) -> Result<Program, String> {
                 reg.get(i.e as usize).copied().unwrap_or(0),
             )),
             TOp::BlendUnion | TOp::BlendIntersect => {
-                return Err(format!(
-                    "the formula uses '{}', which the GPU renderer does not support yet",
-                    i.op.name()
-                ))
+                // As `arith_core::rfunc`'s blends, operation by operation:
+                // a + b -+ sqrt(s + 0.5 / (1 + s)) with s = a^2 + b^2.
+                let (a2, b2) = (p.push(Op::Sqr(a)), p.push(Op::Sqr(b)));
+                let s = p.push(Op::Add(a2, b2));
+                let s1 = p.push(Op::AddC(s, 1.0));
+                let inv = p.push(Op::Recip(s1));
+                let bump = p.push(Op::MulC(inv, 0.5));
+                let arg = p.push(Op::Add(s, bump));
+                let root = p.push(Op::Sqrt(arg));
+                let sum = p.push(Op::Add(a, b));
+                match i.op {
+                    TOp::BlendUnion => p.push(Op::Add(sum, root)),
+                    _ => p.push(Op::Sub(sum, root)),
+                }
             }
         };
         reg.push(r);
@@ -237,9 +239,17 @@ mod tests {
                 );
             }
         }
-        let t = crate::models::formula::parse("(x^2 + y^2 - 1) & (z - x / 3) | 2 - y").unwrap();
-        let p = from_tape(&t).unwrap();
-        let (a, b) = (p.eval_f64(0.2, 0.4, -0.3), t.eval(0.2, 0.4, -0.3));
-        assert!((a - b).abs() < 1e-12, "{a} vs {b}");
+        for src in [
+            "(x^2 + y^2 - 1) & (z - x / 3) | 2 - y",
+            "blend_union(1 - x^2 - y^2, z - 0.5) - blend_intersect(x - y, 0.3 - z) \\ x",
+        ] {
+            let t = crate::models::formula::parse(src).unwrap();
+            let p = from_tape(&t).unwrap();
+            p.check().unwrap();
+            for &(x, y, z) in &[(0.2, 0.4, -0.3), (-1.5, 0.1, 2.0), (0.0, 0.0, 0.0)] {
+                let (a, b) = (p.eval_f64(x, y, z), t.eval(x, y, z));
+                assert!((a - b).abs() < 1e-12 * (1.0 + b.abs()), "{src}: {a} vs {b}");
+            }
+        }
     }
 }
