@@ -1,6 +1,7 @@
 //! `tracer`: reliable ray casting of implicit surfaces from the command line.
 //!
-//! `tracer render`, `tracer range`, `tracer list`, `tracer preview` (see `--help`), and
+//! `tracer render`, `tracer range`, `tracer list`, `tracer preview`, `tracer view` (see
+//! `--help`), and
 //! `tracer completions SHELL`, `tracer man` for the shell and the manual.
 //! User errors print one line on stderr and exit with code 2. Ctrl-C stops `render` and
 //! `preview` early: what was computed is written, and the exit code is 130.
@@ -46,6 +47,14 @@ enum Cmd {
     /// and writes --out.
     #[command(after_long_help = tracer::models::formula::SYNTAX)]
     Preview(tracer::cli::preview::PreviewArgs),
+    /// Real-time window on the GPU renderer (a build with the `gpu` feature).
+    ///
+    /// The model is searched on the GPU as by `render --device gpu` whenever the view
+    /// changes: drag with a mouse button or press the arrow keys to orbit, turn the wheel
+    /// or press + / - to zoom, R to go back to the starting view; Esc or closing the
+    /// window stops and writes the last frame to --out.
+    #[command(after_long_help = tracer::models::formula::SYNTAX)]
+    View(tracer::cli::gpu_window::ViewWindowArgs),
     /// Print a shell completion script: bash, zsh, fish, elvish or powershell.
     Completions {
         /// The shell.
@@ -154,6 +163,10 @@ fn main() -> ExitCode {
         Cmd::Preview(a) => {
             tracer::interrupt::install();
             tracer::cli::preview::run_preview(a)
+        }
+        Cmd::View(a) => {
+            tracer::interrupt::install();
+            tracer::cli::gpu_window::run_view(a)
         }
         Cmd::Completions { shell } => cmd_completions(shell),
         Cmd::Man => cmd_man(),

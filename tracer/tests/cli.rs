@@ -1159,3 +1159,28 @@ fn render_aa_filters_to_the_requested_size() {
         "--aa",
     );
 }
+
+#[test]
+fn view_refuses_bad_flags_before_opening_anything() {
+    let missing = tmp("no-such-dir").join("v.png");
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (vec!["view", "mitchell", "--arith", "aa"], "--arith"),
+        (vec!["view", "mitchell", "--size", "0x10"], "--size"),
+        (vec!["view", "mitchell", "--ortho", "2"], "--ortho"),
+        (vec!["view", "mitchell", "--fps", "0"], "--fps"),
+        (vec!["view", "no-such-model"], "no-such-model"),
+        (
+            vec!["view", "mitchell", "--out", missing.to_str().unwrap()],
+            "no-such-dir",
+        ),
+    ];
+    for (args, needle) in cases {
+        // Without the GPU renderer every one says so instead.
+        let needle = if cfg!(feature = "gpu") {
+            needle
+        } else {
+            "without the GPU renderer"
+        };
+        assert_user_error(&args, needle);
+    }
+}

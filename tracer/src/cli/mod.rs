@@ -2,6 +2,7 @@
 //! the library's types with one-line errors naming the flag, the model a command's
 //! flags select, the terminal progress bar, and the previewer's command and window.
 
+pub mod gpu_window;
 pub mod preview;
 pub mod window;
 

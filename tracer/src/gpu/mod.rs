@@ -145,10 +145,15 @@ pub fn render_program(
     program: &Program,
     opts: &RenderOptions,
 ) -> Result<RenderResult, String> {
+    let tracer = Tracer::new(gpu, program, gpu_arith(kind)?)?;
+    render_with(&tracer, opts)
+}
+
+/// [`render`] on a tracer already compiled for the model and arithmetic (the window's
+/// frames reuse one).
+pub fn render_with(tracer: &Tracer, opts: &RenderOptions) -> Result<RenderResult, String> {
     let start = Instant::now();
-    let arith = gpu_arith(kind)?;
     let (frame, cam) = frame(opts)?;
-    let tracer = Tracer::new(gpu, program, arith)?;
     let out = tracer.render(&frame)?;
     let light = Light::for_camera(&cam);
     let n = (opts.width * opts.height) as usize;
