@@ -12,10 +12,14 @@ use tracer::models::PaperModel;
 use tracer::render::RenderOptions;
 
 /// The paper's Table 2 (fps): IA, RAA, RevAA without culling, RevAA with culling.
+///
+/// The paper's "Cup" is not defined in it; its row stands beside the Virtual Shikki
+/// scene, whose sake set holds the cups (a larger model than one cup).
 pub fn paper_fps(m: PaperModel) -> Option<[f64; 4]> {
     match m {
         PaperModel::Mitchell => Some([28.1, 90.1, 92.2, 97.4]),
         PaperModel::Bretzel => Some([83.8, 90.2, 90.2, 90.5]),
+        PaperModel::Shikki => Some([0.56, 5.12, 5.95, 6.1]),
         PaperModel::Csg => Some([4.3, 14.6, 15.6, 17.2]),
         _ => None,
     }
@@ -112,7 +116,14 @@ pub fn markdown(device: &str, rows: &[Row]) -> String {
             .find(|m| m.name() == r.model)
             .and_then(|&m| paper_fps(m))
             .filter(|_| r.size == (512, 512))
-            .map(|p| format!("{} / {} / {} / {}", p[0], p[1], p[2], p[3]))
+            .map(|p| {
+                let cup = if r.model == PaperModel::Shikki.name() {
+                    " (Cup)"
+                } else {
+                    ""
+                };
+                format!("{} / {} / {} / {}{cup}", p[0], p[1], p[2], p[3])
+            })
             .unwrap_or_else(|| "-".into());
         let cells: Vec<String> = r
             .fps
@@ -128,4 +139,45 @@ pub fn markdown(device: &str, rows: &[Row]) -> String {
         ));
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(model: &str, size: (u32, u32)) -> Row {
+        Row {
+            model: model.into(),
+            size,
+            fps: vec![[1.0, 2.0]; 3],
+            hits: vec![0; 3],
+        }
+    }
+
+    #[test]
+    fn the_papers_figures_stand_beside_their_rows_at_512() {
+        let md = markdown(
+            "dev",
+            &[
+                row("mitchell", (512, 512)),
+                row("shikki", (512, 512)),
+                row("hair", (512, 512)),
+                row("mitchell", (1920, 1080)),
+            ],
+        );
+        let lines: Vec<&str> = md.lines().filter(|l| l.starts_with("| ")).collect();
+        assert!(
+            lines[1].ends_with("| 28.1 / 90.1 / 92.2 / 97.4 |"),
+            "{}",
+            lines[1]
+        );
+        assert!(
+            lines[2].ends_with("| 0.56 / 5.12 / 5.95 / 6.1 (Cup) |"),
+            "{}",
+            lines[2]
+        );
+        assert!(lines[3].ends_with("| - |"), "{}", lines[3]);
+        assert!(lines[4].ends_with("| - |"), "{}", lines[4]);
+        assert!(lines[1].contains("| 1.00 | 2.00 |"));
+    }
 }
