@@ -49,9 +49,9 @@ pub fn shader(program: &Program, arith: GpuArith) -> Result<String, String> {
     match arith {
         GpuArith::Ia => s.push_str(
             "fn seg_range(j: Job, a: f32, b: f32) -> Seg {
-    let x = ia_coord(params.o_mid.x, params.o_rad.x, j.d_mid.x, j.d_rad.x, a, b);
-    let y = ia_coord(params.o_mid.y, params.o_rad.y, j.d_mid.y, j.d_rad.y, a, b);
-    let z = ia_coord(params.o_mid.z, params.o_rad.z, j.d_mid.z, j.d_rad.z, a, b);
+    let x = ia_coord(j.o_mid.x, j.o_rad.x, j.d_mid.x, j.d_rad.x, a, b);
+    let y = ia_coord(j.o_mid.y, j.o_rad.y, j.d_mid.y, j.d_rad.y, a, b);
+    let z = ia_coord(j.o_mid.z, j.o_rad.z, j.d_mid.z, j.d_rad.z, a, b);
     let f = ia_bounds(model_ia(x, y, z));
     return Seg(f.lo, f.hi, 0.0, 0.0, 0.0, 0.0, 0.0, false);
 }
@@ -62,9 +62,9 @@ pub fn shader(program: &Program, arith: GpuArith) -> Result<String, String> {
             s.push_str(
                 "fn seg_range(j: Job, a: f32, b: f32) -> Seg {
     let t = af_input(a, b);
-    let x = af_coord(params.o_mid.x, params.o_rad.x, j.d_mid.x, j.d_rad.x, t);
-    let y = af_coord(params.o_mid.y, params.o_rad.y, j.d_mid.y, j.d_rad.y, t);
-    let z = af_coord(params.o_mid.z, params.o_rad.z, j.d_mid.z, j.d_rad.z, t);
+    let x = af_coord(j.o_mid.x, j.o_rad.x, j.d_mid.x, j.d_rad.x, t);
+    let y = af_coord(j.o_mid.y, j.o_rad.y, j.d_mid.y, j.d_rad.y, t);
+    let z = af_coord(j.o_mid.z, j.o_rad.z, j.d_mid.z, j.d_rad.z, t);
     let f = model_af(x, y, z);
     let fb = af_bounds(f);
     return Seg(fb.lo, fb.hi, f.c, f.t, f.e, t.c, t.t, !af_ent(f));

@@ -191,9 +191,7 @@ fn entry_of(binding: u32, b: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
 struct Params {
-    o_mid: [f32; 3],
     zero: u32,
-    o_rad: [f32; 3],
     eps_abs: f32,
     eps_rel: f32,
     width: u32,
@@ -205,8 +203,6 @@ struct Params {
     max_iter: u32,
     normal_h: f32,
     refine: f32,
-    pad0: u32,
-    pad1: u32,
 }
 
 /// The shaders' `Job`.
@@ -217,14 +213,23 @@ struct Job {
     s0: f32,
     d_rad: [f32; 3],
     s1: f32,
+    o_mid: [f32; 3],
+    pad0: f32,
+    o_rad: [f32; 3],
+    pad1: f32,
 }
 
-/// One ray or bundle in `f64`: the points `eye + s d` for `s` in `[s0, s1]` and every
-/// direction `d` with `|d_k - dir_k| <= dir_rad_k`. A pixel's ray has `dir` its unit
-/// direction (then `s` is the distance from the eye) and `dir_rad` zero; `s0 > s1` for a
-/// ray that misses the domain.
+/// One ray or bundle in `f64`: the points `o + s d` for `s` in `[s0, s1]`, every origin
+/// `o` with `|o_k - origin_k| <= origin_rad_k` and every direction `d` with
+/// `|d_k - dir_k| <= dir_rad_k`. A pixel's ray has `dir` its unit direction (then `s` is
+/// the distance from its origin, the eye of a pinhole or a point of an orthographic
+/// view's image plane) and both radii zero; `s0 > s1` for a ray that misses the domain.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Bundle {
+    /// Central origin.
+    pub origin: [f64; 3],
+    /// Radius of the origins, per component (`>= 0`).
+    pub origin_rad: [f64; 3],
     /// Central direction.
     pub dir: [f64; 3],
     /// Radius of the directions, per component (`>= 0`).
@@ -237,14 +242,19 @@ pub struct Bundle {
 
 impl Bundle {
     fn to_job(self) -> Job {
-        let mut d_mid = [0.0f32; 3];
-        let mut d_rad = [0.0f32; 3];
-        for k in 0..3 {
-            let (m, r) = convert::coord(self.dir[k]);
-            d_mid[k] = m;
-            // The sum of two f32 in f64 is exact; round it up to f32.
-            d_rad[k] = convert::up(r as f64 + convert::up(self.dir_rad[k].abs()) as f64);
-        }
+        // Each component as an f32 midpoint and a radius holding the f64 value's
+        // rounding and the given radius (the sum of two f32 in f64 is exact; rounded up).
+        let enclose = |v: [f64; 3], rad: [f64; 3]| {
+            let (mut mid, mut r) = ([0.0f32; 3], [0.0f32; 3]);
+            for k in 0..3 {
+                let (m, e) = convert::coord(v[k]);
+                mid[k] = m;
+                r[k] = convert::up(e as f64 + convert::up(rad[k].abs()) as f64);
+            }
+            (mid, r)
+        };
+        let (d_mid, d_rad) = enclose(self.dir, self.dir_rad);
+        let (o_mid, o_rad) = enclose(self.origin, self.origin_rad);
         let finite = self.s0.is_finite() && self.s1.is_finite() && self.s0 <= self.s1;
         let (s0, s1) = if finite && self.s0.abs() < convert::LIM && self.s1.abs() < convert::LIM {
             (convert::down(self.s0), convert::up(self.s1))
@@ -256,6 +266,10 @@ impl Bundle {
             s0,
             d_rad,
             s1,
+            o_mid,
+            pad0: 0.0,
+            o_rad,
+            pad1: 0.0,
         }
     }
 }
@@ -281,8 +295,6 @@ pub struct Frame {
     pub width: u32,
     /// Image height.
     pub height: u32,
-    /// Origin of every ray.
-    pub eye: [f64; 3],
     /// One bundle per pixel.
     pub rays: Vec<Bundle>,
     /// A segment is resolved once shorter than `eps_abs + eps_rel * s`.
@@ -442,7 +454,6 @@ impl<'g> Tracer<'g> {
             ));
         }
         let d = &self.gpu.device;
-        let (om, or): (Vec<f32>, Vec<f32>) = frame.eye.iter().map(|&v| convert::coord(v)).unzip();
         let (culling, cell, cells_x, cell_jobs) = match &frame.cells {
             Some(c) => {
                 let rows = frame.height.div_ceil(c.cell.max(1));
@@ -465,9 +476,7 @@ impl<'g> Tracer<'g> {
             }
         };
         let params = Params {
-            o_mid: [om[0], om[1], om[2]],
             zero: 0,
-            o_rad: [or[0], or[1], or[2]],
             eps_abs: pos(frame.eps_abs),
             eps_rel: pos(frame.eps_rel),
             width: frame.width,
@@ -479,8 +488,6 @@ impl<'g> Tracer<'g> {
             max_iter: 4096,
             normal_h: pos(frame.normal_h),
             refine: 1.0 / 4096.0,
-            pad0: 0,
-            pad1: 0,
         };
         let jobs: Vec<Job> = frame.rays.iter().map(|b| b.to_job()).collect();
         let uni = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -599,6 +606,8 @@ impl Bundle {
     /// A bundle that misses (an empty parameter range).
     pub fn miss() -> Bundle {
         Bundle {
+            origin: [0.0; 3],
+            origin_rad: [0.0; 3],
             dir: [0.0, 0.0, 1.0],
             dir_rad: [0.0; 3],
             s0: 1.0,

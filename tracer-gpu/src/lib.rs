@@ -65,9 +65,11 @@
 //! end values bounded by the outward built-ins above; `sin`, `cos`, `abs` across 0 and
 //! overlapping `min`/`max` become intervals (`alpha = 0`). RAA* and RevAA differ only in
 //! their product, as on the CPU (`arith-raa`, `arith-revaa`). The host's `f64` inputs
-//! (eye, directions, segment ends, constants) are enclosed outward ([`convert`]): the
-//! eye and each direction as an `f32` midpoint and a radius rounded up, so the bundle
-//! holds the `f64` ray exactly.
+//! (ray origins, directions, segment ends, constants) are enclosed outward
+//! ([`convert`]): each origin and direction as an `f32` midpoint and a radius rounded
+//! up, so the bundle holds the `f64` ray exactly. Every job carries its own origin, so
+//! a pinhole's rays (one eye) and an orthographic view's (parallel rays from the image
+//! plane; a culling cell is then a box of origins with one direction) run alike.
 //!
 //! The R-functions are single operations ([`Op::RUnion`], [`Op::RIntersect`]): written
 //! out, `a + b + sqrt(a^2 + b^2)` with `a` small and `b` far below zero (a union with a

@@ -27,6 +27,8 @@ fn sphere_head_on() {
             let d = [u * 0.5, v * 0.5, -1.0];
             let l = (d[0] * d[0] + d[1] * d[1] + 1.0f64).sqrt();
             rays.push(Bundle {
+                origin: [0.0, 0.0, 3.0],
+                origin_rad: [0.0; 3],
                 dir: [d[0] / l, d[1] / l, d[2] / l],
                 dir_rad: [0.0; 3],
                 s0: 0.5,
@@ -37,7 +39,6 @@ fn sphere_head_on() {
     let frame = Frame {
         width: n,
         height: n,
-        eye: [0.0, 0.0, 3.0],
         rays: rays.clone(),
         eps_abs: 1e-4,
         eps_rel: 0.0,

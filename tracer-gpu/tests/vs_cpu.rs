@@ -156,17 +156,30 @@ fn check<S: Shape>(
     depth_check: bool,
 ) {
     let Some(gpu) = common::gpu() else { return };
-    let view = View {
+    let pinhole = View {
         eye: DVec3::new(0.7, 0.9, 3.4),
         look_at: DVec3::new(0.05, -0.03, 0.0),
         up: DVec3::Y,
         fov_deg: 40.0,
         ortho: None,
     };
+    // Parallel rays from the image plane, across a little more than the domain.
+    let parallel = View {
+        ortho: Some(3.3),
+        ..pinhole
+    };
     let dom = Aabb::cube(1.5);
     let program = record(|x, y, z| shape.eval(x, y, z));
-    let cam = Camera::new(view, N, N);
-    for kind in gpu_kinds() {
+    for (view, kind) in [pinhole, parallel]
+        .into_iter()
+        .flat_map(|v| gpu_kinds().into_iter().map(move |k| (v, k)))
+    {
+        let cam = Camera::new(view, N, N);
+        let camera = if view.ortho.is_some() {
+            "ortho"
+        } else {
+            "pinhole"
+        };
         for (culling, pruning) in [(false, false), (true, true), (false, true)] {
             let mut opts = RenderOptions::for_view(view, dom, N, N);
             opts.culling = culling;
@@ -182,8 +195,9 @@ fn check<S: Shape>(
                     let (margin, t_true) = analytic(o, d);
                     if margin > 1e-9 && clip(o, d, &dom, 0.0).is_some() {
                         hits += 1;
-                        let tag =
-                            format!("{name} {kind} culling={culling} pruning={pruning} ({i},{j})");
+                        let tag = format!(
+                            "{name} {camera} {kind} culling={culling} pruning={pruning} ({i},{j})"
+                        );
                         assert!(
                             out.status[k].is_hit(),
                             "{tag}: analytic hit at {t_true} missed"

@@ -208,14 +208,6 @@ fn render_gpu(
     model: &tracer::models::Model,
     opts: &RenderOptions,
 ) -> Result<tracer::render::RenderResult, String> {
-    if opts.view.ortho.is_some() {
-        // The GPU search casts rays from the eye only.
-        return Err(
-            "--device gpu: orthographic views (--ortho, a header's ortho=) are not \
-                    supported on the GPU yet"
-                .into(),
-        );
-    }
     let gpu = tracer::gpu::tracer_gpu::Gpu::new().map_err(|e| format!("--device gpu: {e}"))?;
     tracer::gpu::render(&gpu, kind, model, opts).map_err(|e| format!("--device gpu: {e}"))
 }

@@ -1166,7 +1166,7 @@ fn view_refuses_bad_flags_before_opening_anything() {
     let cases: Vec<(Vec<&str>, &str)> = vec![
         (vec!["view", "mitchell", "--arith", "aa"], "--arith"),
         (vec!["view", "mitchell", "--size", "0x10"], "--size"),
-        (vec!["view", "mitchell", "--ortho", "2"], "--ortho"),
+        (vec!["view", "mitchell", "--ortho", "-2"], "--ortho"),
         (vec!["view", "mitchell", "--fps", "0"], "--fps"),
         (vec!["view", "no-such-model"], "no-such-model"),
         (

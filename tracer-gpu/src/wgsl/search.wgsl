@@ -6,9 +6,7 @@
 // segment that was not proved root-free.
 
 struct Params {
-    o_mid: vec3<f32>,
     zero: u32,
-    o_rad: vec3<f32>,
     eps_abs: f32,
     eps_rel: f32,
     width: u32,
@@ -20,17 +18,19 @@ struct Params {
     max_iter: u32,
     normal_h: f32,
     refine: f32,
-    pad0: u32,
-    pad1: u32,
 }
 
-// One ray (or one cell's bundle): x = o + s d for s in [s0, s1] and d in
-// [d_mid - d_rad, d_mid + d_rad].
+// One ray (or one cell's bundle): x = o + s d for s in [s0, s1], o in
+// [o_mid - o_rad, o_mid + o_rad] and d in [d_mid - d_rad, d_mid + d_rad].
 struct Job {
     d_mid: vec3<f32>,
     s0: f32,
     d_rad: vec3<f32>,
     s1: f32,
+    o_mid: vec3<f32>,
+    pad0: f32,
+    o_rad: vec3<f32>,
+    pad1: f32,
 }
 
 @group(0) @binding(0) var<uniform> params: Params;
@@ -59,9 +59,9 @@ struct Seg {
 
 // f at the point s of the ray, as a sound interval (all the job's rays).
 fn point_range(j: Job, s: f32) -> IA {
-    let x = ia_coord(params.o_mid.x, params.o_rad.x, j.d_mid.x, j.d_rad.x, s, s);
-    let y = ia_coord(params.o_mid.y, params.o_rad.y, j.d_mid.y, j.d_rad.y, s, s);
-    let z = ia_coord(params.o_mid.z, params.o_rad.z, j.d_mid.z, j.d_rad.z, s, s);
+    let x = ia_coord(j.o_mid.x, j.o_rad.x, j.d_mid.x, j.d_rad.x, s, s);
+    let y = ia_coord(j.o_mid.y, j.o_rad.y, j.d_mid.y, j.d_rad.y, s, s);
+    let z = ia_coord(j.o_mid.z, j.o_rad.z, j.d_mid.z, j.d_rad.z, s, s);
     return model_ia(x, y, z);
 }
 
@@ -173,7 +173,7 @@ fn first_root(j: Job) -> Hit {
 }
 
 fn normal_at(j: Job, s: f32) -> vec3<f32> {
-    let p = params.o_mid + j.d_mid * s;
+    let p = j.o_mid + j.d_mid * s;
     let h = max(eps_at(s), params.normal_h);
     let gx = model_pt(p.x + h, p.y, p.z) - model_pt(p.x - h, p.y, p.z);
     let gy = model_pt(p.x, p.y + h, p.z) - model_pt(p.x, p.y - h, p.z);

@@ -15,7 +15,7 @@ pub struct ViewWindowArgs {
     /// The model: see `tracer render --help`.
     #[command(flatten)]
     pub src: ModelArgs,
-    /// The starting camera: as for `tracer render` (perspective only on the GPU).
+    /// The starting camera: as for `tracer render`.
     #[command(flatten)]
     pub view: ViewArgs,
     /// Arithmetic: ia, raa or revaa (the GPU's).
@@ -124,13 +124,6 @@ mod on_gpu {
         }
         let model = model_source(&args.src, args.domain.as_deref().map(|d| ("--domain", d)))?;
         let start_view = args.view.apply(model.view)?;
-        if start_view.ortho.is_some() {
-            return Err(
-                "--ortho: orthographic views are not supported on the GPU yet (the GPU search \
-                 casts rays from the eye)"
-                    .into(),
-            );
-        }
         crate::camera::Camera::try_new(start_view, w, h).map_err(|e| format!("camera: {e}"))?;
         let program = crate::gpu::record::program_of(&model)?;
         let gpu = Gpu::new()?;

@@ -44,6 +44,8 @@ pub fn frame(opts: &RenderOptions) -> Result<(Frame, Camera), String> {
             let (o, d) = cam.ray(i, j);
             let (s0, s1) = clip(o, d, &dom, 0.0).unwrap_or((1.0, 0.0));
             rays.push(Bundle {
+                origin: o.to_array(),
+                origin_rad: [0.0; 3],
                 dir: d.to_array(),
                 dir_rad: [0.0; 3],
                 s0,
@@ -56,7 +58,6 @@ pub fn frame(opts: &RenderOptions) -> Result<(Frame, Camera), String> {
         Frame {
             width: opts.width,
             height: opts.height,
-            eye: cam.eye.to_array(),
             rays,
             // f32 resolves about 2^-20 of the scene: a floor on the precision.
             eps_abs: precision.abs.max(scale * 1e-6),
@@ -70,10 +71,11 @@ pub fn frame(opts: &RenderOptions) -> Result<(Frame, Camera), String> {
 }
 
 /// The culling cells: the raw directions `forward + dx right + dy up` of a cell's
-/// pixels as a central direction and a radius (`dx`, `dy` are affine in the pixel
-/// coordinates, so the corners bound them), over the depths along `forward` of the
-/// domain's corners. `s` is then the depth along `forward` (the raw direction's
-/// `forward` component is 1), widened for the rounding of the set-up.
+/// pixels (an orthographic view's: `forward` alone) and their origins (the eye; an
+/// orthographic view's image-plane points), each as a centre and a radius (both are
+/// affine in the pixel coordinates, so the corners bound them), over the depths along
+/// `forward` of the domain's corners. `s` is then the depth along `forward` (the raw
+/// direction's `forward` component is 1), widened for the rounding of the set-up.
 fn cells(cam: &Camera, opts: &RenderOptions) -> Cells {
     let dom = opts.domain;
     let corners = (0..8).map(|k| {
@@ -99,20 +101,14 @@ fn cells(cam: &Camera, opts: &RenderOptions) -> Cells {
             let (x0, y0) = ((cx * CELL) as f64, (cy * CELL) as f64);
             let x1 = ((cx + 1) * CELL).min(opts.width) as f64;
             let y1 = ((cy + 1) * CELL).min(opts.height) as f64;
-            let a = cam.raw_dir(x0, y0);
-            let b = cam.raw_dir(x1, y1);
-            let c = cam.raw_dir(x0, y1);
-            let d = cam.raw_dir(x1, y0);
-            let mid = (a + b) * 0.5;
-            let rad = [a, b, c, d]
-                .iter()
-                .map(|v| (*v - mid).abs())
-                .fold(DVec3::ZERO, DVec3::max);
-            // Rounding of the raw directions (a few ulps of their size) and of `mid`.
-            let slack = DVec3::splat(mid.abs().max_element() * 1e-12 + 1e-300);
+            let corners = [(x0, y0), (x1, y1), (x0, y1), (x1, y0)];
+            let (dir, dir_rad) = centre_radius(corners.map(|(x, y)| cam.raw_dir(x, y)));
+            let (origin, origin_rad) = centre_radius(corners.map(|(x, y)| cam.origin_at(x, y)));
             bundles.push(Bundle {
-                dir: mid.to_array(),
-                dir_rad: (rad + slack).to_array(),
+                origin: origin.to_array(),
+                origin_rad: origin_rad.to_array(),
+                dir: dir.to_array(),
+                dir_rad: dir_rad.to_array(),
                 s0,
                 s1,
             });
@@ -123,6 +119,21 @@ fn cells(cam: &Camera, opts: &RenderOptions) -> Cells {
         cells_x,
         bundles,
     }
+}
+
+/// The centre of the first two of `corners` (opposite corners of a cell) and a radius
+/// reaching all four, widened for the rounding of the set-up (a few ulps of their size).
+fn centre_radius(corners: [DVec3; 4]) -> (DVec3, DVec3) {
+    let mid = (corners[0] + corners[1]) * 0.5;
+    let rad = corners
+        .iter()
+        .map(|v| (*v - mid).abs())
+        .fold(DVec3::ZERO, DVec3::max);
+    let scale = corners
+        .iter()
+        .map(|v| v.abs().max_element())
+        .fold(0.0, f64::max);
+    (mid, rad + DVec3::splat(scale * 1e-12 + 1e-300))
 }
 
 /// Renders `model` on `gpu` in `kind` with `opts` (as [`crate::render::render`]; the
