@@ -66,43 +66,34 @@ mod on_gpu {
     use super::ViewWindowArgs;
     use crate::arith::ArithKind;
     use crate::camera::{orbit, zoom};
+    use crate::cli::window::{ORBIT_PER_PIXEL, ZOOM_PER_STEP};
     use crate::cli::{model_source, parse_size};
     use crate::gpu::tracer_gpu::{Gpu, Tracer};
+    use crate::progressive::pack;
     use crate::render::output::{check_outputs, write_png};
     use crate::render::{RenderOptions, RenderResult};
     use crate::shape::View;
     use minifb::{Key, KeyRepeat, MouseButton, MouseMode, Window, WindowOptions};
     use std::time::Instant;
 
-    /// Orbit per pixel of a mouse drag, in radians.
-    const ORBIT_PER_PIXEL: f64 = 0.01;
-
-    /// Orbit per press of an arrow key, in radians.
+    /// Orbit per press of an arrow key, in radians (a drag and the wheel move as in
+    /// the previewer's window).
     const ORBIT_PER_KEY: f64 = 0.1;
-
-    /// Distance factor per step of the wheel or press of `+` (towards the point looked at).
-    const ZOOM_PER_STEP: f64 = 0.9;
 
     /// The window's image: `rgb` as minifb's `0RGB` words.
     fn to_words(rgb: &[u8]) -> Vec<u32> {
         rgb.chunks_exact(3)
-            .map(|p| (u32::from(p[0]) << 16) | (u32::from(p[1]) << 8) | u32::from(p[2]))
+            .map(|p| pack([p[0], p[1], p[2]]))
             .collect()
     }
 
     /// Renders `view` with `tracer`, or says why not.
-    fn frame(
-        tracer: &Tracer,
-        base: &RenderOptions,
-        view: View,
-    ) -> Result<(RenderResult, f64), String> {
+    fn frame(tracer: &Tracer, base: &RenderOptions, view: View) -> Result<RenderResult, String> {
         let opts = RenderOptions {
             view,
             ..base.clone()
         };
-        let t = Instant::now();
-        let res = crate::gpu::render_with(tracer, &opts)?;
-        Ok((res, t.elapsed().as_secs_f64()))
+        crate::gpu::render_with(tracer, &opts)
     }
 
     pub fn run(args: &ViewWindowArgs) -> Result<(), String> {
@@ -131,19 +122,19 @@ mod on_gpu {
         let mut base = RenderOptions::for_view(start_view, model.domain, w, h);
         base.culling = !args.no_culling;
         base.pruning = !args.no_pruning;
-        let (mut last, secs) = frame(&tracer, &base, start_view)?;
+        let mut last = frame(&tracer, &base, start_view)?;
         let mut view = start_view;
 
-        let title = |res: &RenderResult, secs: f64| {
+        let title = |res: &RenderResult| {
             format!(
                 "tracer view: {} ({kind}, {:.0} ms, {} hits, {} unconfirmed)",
                 args.src.title(),
-                secs * 1e3,
+                res.stats.wall.as_secs_f64() * 1e3,
                 res.stats.hits,
                 res.stats.unconfirmed
             )
         };
-        let mut window = Window::new(&title(&last, secs), w as usize, h as usize, {
+        let mut window = Window::new(&title(&last), w as usize, h as usize, {
             WindowOptions::default()
         })
         .map_err(|e| format!("cannot open a window ({e}); use `tracer render --device gpu`"))?;
@@ -206,8 +197,8 @@ mod on_gpu {
             if next != view {
                 // A view the camera refuses (zoomed onto the point looked at) keeps the last.
                 match frame(&tracer, &base, next) {
-                    Ok((res, secs)) => {
-                        window.set_title(&title(&res, secs));
+                    Ok(res) => {
+                        window.set_title(&title(&res));
                         buf = to_words(&res.rgb);
                         (last, view) = (res, next);
                     }

@@ -42,10 +42,10 @@ const CHECKPOINT_S: f64 = 5.0;
 const RELOAD_POLL_S: f64 = 0.5;
 
 /// Orbit per pixel of a right-button drag, in radians.
-const ORBIT_PER_PIXEL: f64 = 0.01;
+pub(super) const ORBIT_PER_PIXEL: f64 = 0.01;
 
 /// Distance factor per step of the mouse wheel (towards the point looked at).
-const ZOOM_PER_STEP: f64 = 0.9;
+pub(super) const ZOOM_PER_STEP: f64 = 0.9;
 
 /// The refinement thread: steps its engine until done, then waits, applying commands
 /// between batches of samples, until told to stop. `done` holds the number of the last

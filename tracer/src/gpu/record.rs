@@ -8,7 +8,7 @@
 use crate::models::formula::{Op as TOp, Tape};
 use crate::models::{AnyShape, Model};
 use crate::shape::Shape;
-use arith_core::Real;
+use arith_core::{rfunc, Real};
 use core::ops::{Add, Div, Mul, Neg, Sub};
 use std::cell::RefCell;
 use tracer_gpu::{Op, Program};
@@ -45,7 +45,7 @@ pub fn record(f: impl FnOnce(Recorder, Recorder, Recorder) -> Recorder) -> Progr
 /// program can express.
 pub fn program_of(model: &Model) -> Result<Program, String> {
     match &model.shape {
-        AnyShape::Expr(t) => from_tape(t),
+        AnyShape::Expr(t) => Ok(from_tape(t)),
         s if !s.packs() => Err(format!(
             "model '{}' uses procedural noise, which the GPU renderer does not support",
             model.name
@@ -54,70 +54,55 @@ pub fn program_of(model: &Model) -> Result<Program, String> {
     }
 }
 
-/// A formula's tape as a program.
-pub fn from_tape(t: &Tape) -> Result<Program, String> {
-    let mut p = Program::default();
-    // Tape register k -> program register.
-    let mut reg: Vec<u32> = Vec::with_capacity(t.len());
-    for i in t.instructions() {
-        let a = reg.get(i.a as usize).copied().unwrap_or(0);
-        let b = reg.get(i.b as usize).copied().unwrap_or(0);
-        let r = match i.op {
-            TOp::X => p.push(Op::X),
-            TOp::Y => p.push(Op::Y),
-            TOp::Z => p.push(Op::Z),
-            TOp::Const => p.push(Op::Const(i.c)),
-            TOp::Neg => p.push(Op::Neg(a)),
-            TOp::Sqr => p.push(Op::Sqr(a)),
-            TOp::Powi => p.push(Op::Powi(a, i.n)),
-            TOp::Sqrt => p.push(Op::Sqrt(a)),
-            TOp::Exp => p.push(Op::Exp(a)),
-            TOp::Ln => p.push(Op::Ln(a)),
-            TOp::Sin => p.push(Op::Sin(a)),
-            TOp::Cos => p.push(Op::Cos(a)),
-            TOp::Abs => p.push(Op::Abs(a)),
-            TOp::AddC => p.push(Op::AddC(a, i.c)),
-            TOp::SubC => p.push(Op::AddC(a, -i.c)),
-            TOp::RSubC => p.push(Op::RSubC(a, i.c)),
-            TOp::MulC => p.push(Op::MulC(a, i.c)),
-            TOp::DivC => p.push(Op::DivC(a, i.c)),
-            TOp::RDivC => p.push(Op::RDivC(a, i.c)),
-            TOp::Add => p.push(Op::Add(a, b)),
-            TOp::Sub => p.push(Op::Sub(a, b)),
-            TOp::Mul => p.push(Op::Mul(a, b)),
-            TOp::Div => p.push(Op::Div(a, b)),
-            TOp::Min => p.push(Op::Min(a, b)),
-            TOp::Max => p.push(Op::Max(a, b)),
-            TOp::Union => p.push(Op::RUnion(a, b)),
-            TOp::Intersect => p.push(Op::RIntersect(a, b)),
-            TOp::Subtract => p.push(Op::RSubtract(a, b)),
-            TOp::Gt0 => p.push(Op::Gt0(a)),
-            TOp::Ge0 => p.push(Op::Ge0(a)),
-            TOp::Select => p.push(Op::Select(
-                a,
-                b,
-                reg.get(i.e as usize).copied().unwrap_or(0),
-            )),
-            TOp::BlendUnion | TOp::BlendIntersect => {
-                // As `arith_core::rfunc`'s blends, operation by operation:
-                // a + b -+ sqrt(s + 0.5 / (1 + s)) with s = a^2 + b^2.
-                let (a2, b2) = (p.push(Op::Sqr(a)), p.push(Op::Sqr(b)));
-                let s = p.push(Op::Add(a2, b2));
-                let s1 = p.push(Op::AddC(s, 1.0));
-                let inv = p.push(Op::Recip(s1));
-                let bump = p.push(Op::MulC(inv, 0.5));
-                let arg = p.push(Op::Add(s, bump));
-                let root = p.push(Op::Sqrt(arg));
-                let sum = p.push(Op::Add(a, b));
-                match i.op {
-                    TOp::BlendUnion => p.push(Op::Add(sum, root)),
-                    _ => p.push(Op::Sub(sum, root)),
-                }
-            }
-        };
-        reg.push(r);
-    }
-    Ok(p)
+/// A formula's tape as a program, recorded operation by operation (the blends through
+/// [`arith_core::rfunc`], as the CPU evaluates them).
+pub fn from_tape(t: &Tape) -> Program {
+    record(|x, y, z| {
+        // Tape register k -> its recorded value.
+        let mut reg: Vec<Recorder> = Vec::with_capacity(t.len());
+        for i in t.instructions() {
+            let at = |k: u32| reg.get(k as usize).copied().unwrap_or(x);
+            let (ra, rb, re) = (at(i.a), at(i.b), at(i.e));
+            let (a, b) = (ra.0, rb.0);
+            let r = match i.op {
+                TOp::X => x,
+                TOp::Y => y,
+                TOp::Z => z,
+                TOp::Const => push(Op::Const(i.c)),
+                TOp::Neg => push(Op::Neg(a)),
+                TOp::Sqr => push(Op::Sqr(a)),
+                TOp::Powi => push(Op::Powi(a, i.n)),
+                TOp::Sqrt => push(Op::Sqrt(a)),
+                TOp::Exp => push(Op::Exp(a)),
+                TOp::Ln => push(Op::Ln(a)),
+                TOp::Sin => push(Op::Sin(a)),
+                TOp::Cos => push(Op::Cos(a)),
+                TOp::Abs => push(Op::Abs(a)),
+                TOp::AddC => push(Op::AddC(a, i.c)),
+                TOp::SubC => push(Op::AddC(a, -i.c)),
+                TOp::RSubC => push(Op::RSubC(a, i.c)),
+                TOp::MulC => push(Op::MulC(a, i.c)),
+                TOp::DivC => push(Op::DivC(a, i.c)),
+                TOp::RDivC => push(Op::RDivC(a, i.c)),
+                TOp::Add => push(Op::Add(a, b)),
+                TOp::Sub => push(Op::Sub(a, b)),
+                TOp::Mul => push(Op::Mul(a, b)),
+                TOp::Div => push(Op::Div(a, b)),
+                TOp::Min => push(Op::Min(a, b)),
+                TOp::Max => push(Op::Max(a, b)),
+                TOp::Union => push(Op::RUnion(a, b)),
+                TOp::Intersect => push(Op::RIntersect(a, b)),
+                TOp::Subtract => push(Op::RSubtract(a, b)),
+                TOp::BlendUnion => rfunc::blend_union(ra, rb),
+                TOp::BlendIntersect => rfunc::blend_intersect(ra, rb),
+                TOp::Gt0 => push(Op::Gt0(a)),
+                TOp::Ge0 => push(Op::Ge0(a)),
+                TOp::Select => push(Op::Select(a, b, re.0)),
+            };
+            reg.push(r);
+        }
+        reg.last().copied().unwrap_or(x)
+    })
 }
 
 macro_rules! binop {
@@ -244,7 +229,7 @@ mod tests {
             "blend_union(1 - x^2 - y^2, z - 0.5) - blend_intersect(x - y, 0.3 - z) \\ x",
         ] {
             let t = crate::models::formula::parse(src).unwrap();
-            let p = from_tape(&t).unwrap();
+            let p = from_tape(&t);
             p.check().unwrap();
             for &(x, y, z) in &[(0.2, 0.4, -0.3), (-1.5, 0.1, 2.0), (0.0, 0.0, 0.0)] {
                 let (a, b) = (p.eval_f64(x, y, z), t.eval(x, y, z));

@@ -50,7 +50,8 @@ impl SharedImage {
     }
 }
 
-pub(super) fn pack(c: [u8; 3]) -> u32 {
+/// An RGB colour as a `0RGB` word (the window's pixel format).
+pub(crate) fn pack(c: [u8; 3]) -> u32 {
     (c[0] as u32) << 16 | (c[1] as u32) << 8 | c[2] as u32
 }
 fn unpack(c: u32) -> [u8; 3] {
