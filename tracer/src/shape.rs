@@ -76,14 +76,15 @@ pub trait Shape: Send + Sync {
         (shapes, which)
     }
 
-    /// A shape with the same *value* as this one at every point of the region that the
-    /// ranges `[x, y, z]` enclose (not only the same sign), and cheaper to evaluate:
-    /// fit for shading there. `None` where there is none (the default).
-    fn specialise_values<R: Range>(&self, region: &[R; 3]) -> Option<Self>
+    /// A shape with the same *value* as this one (not only the same sign) at every
+    /// point of the region that the ranges `[x, y, z]` enclose where its own value lies
+    /// strictly inside `(-within, within)` (everywhere for `within = inf`), and cheaper
+    /// to evaluate: fit for shading there. `None` where there is none (the default).
+    fn specialise_values<R: Range>(&self, region: &[R; 3], within: f64) -> Option<Self>
     where
         Self: Sized,
     {
-        let _ = region;
+        let _ = (region, within);
         None
     }
 }

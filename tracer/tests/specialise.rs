@@ -58,6 +58,21 @@ fn tree() -> impl Strategy<Value = String> {
     })
 }
 
+/// Trees of balls under `min`, `max` and negation only: every register is folded by
+/// level where it can be, which the mixed trees of [`tree`] seldom reach.
+fn lattice() -> impl Strategy<Value = String> {
+    leaf().prop_recursive(5, 32, 2, |inner| {
+        let ops = [
+            "min({a}, {b})",
+            "max({a}, {b})",
+            "-max({a}, {b})",
+            "max(-{a}, {b})",
+        ];
+        (prop::sample::select(ops.to_vec()), inner.clone(), inner)
+            .prop_map(|(op, a, b)| op.replace("{a}", &a).replace("{b}", &b))
+    })
+}
+
 /// The box `centre ± half`.
 fn region() -> impl Strategy<Value = [(f64, f64); 3]> {
     (
@@ -162,20 +177,56 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(300))]
 
     /// A tape specialised for shading has the whole tape's value, to the bit, at every
-    /// point of its box, but for the sign of a zero: where a `min` or `max` is decided
-    /// because its operands' ranges meet only at 0, the whole tape's `min(0, -0)` may
-    /// take either zero (IEEE 754 leaves it open), and the value tape the other.
+    /// point of its box where its own value lies inside `(-within, within)` (every
+    /// point for `within = inf`), but for the sign of a zero: where a `min` or `max` is
+    /// decided because its operands' ranges meet only at 0, the whole tape's
+    /// `min(0, -0)` may take either zero (IEEE 754 leaves it open), and the value tape
+    /// the other.
     #[test]
-    fn value_tapes_keep_the_value(f in tree(), b in region(), seed in any::<u64>()) {
+    fn value_tapes_keep_the_value(
+        f in tree(),
+        b in region(),
+        seed in any::<u64>(),
+        within in prop_oneof![Just(f64::INFINITY), (-4i32..2).prop_map(|k| 10f64.powi(k))],
+    ) {
         let t = parse(&f).unwrap();
         let region: [Interval; 3] = core::array::from_fn(|k| Interval::from_interval(b[k].0, b[k].1));
-        if let Some(v) = t.specialise_values(&region) {
+        if let Some(v) = t.specialise_values(&region, within) {
             prop_assert!(v.len() < t.len());
             for p in points_in(&b, seed) {
                 let (a, c): (f64, f64) = (t.eval(p[0], p[1], p[2]), v.eval(p[0], p[1], p[2]));
+                if within.is_finite() && !(c.abs() < within) {
+                    continue;
+                }
                 prop_assert!(
                     a.to_bits() == c.to_bits() || (a == 0.0 && c == 0.0) || (a.is_nan() && c.is_nan()),
-                    "{a} != {c} at {p:?}\nwhole:\n{t}\nvalues:\n{v}"
+                    "{a} != {c} at {p:?} (within {within})\nwhole:\n{t}\nvalues:\n{v}"
+                );
+            }
+        }
+    }
+
+    /// The same for trees of `min`, `max` and negation folded by level, at points
+    /// where the folded tape's value lies inside the level.
+    #[test]
+    fn level_tapes_keep_the_value(
+        f in lattice(),
+        b in region(),
+        seed in any::<u64>(),
+        within in prop_oneof![(0.05..3.0f64)],
+    ) {
+        let t = parse(&f).unwrap();
+        let region: [Interval; 3] = core::array::from_fn(|k| Interval::from_interval(b[k].0, b[k].1));
+        if let Some(v) = t.specialise_values(&region, within) {
+            prop_assert!(v.len() < t.len());
+            for p in points_in(&b, seed) {
+                let (a, c): (f64, f64) = (t.eval(p[0], p[1], p[2]), v.eval(p[0], p[1], p[2]));
+                if !(c.abs() < within) {
+                    continue;
+                }
+                prop_assert!(
+                    a.to_bits() == c.to_bits() || (a == 0.0 && c == 0.0),
+                    "{a} != {c} at {p:?} (within {within})\nwhole:\n{t}\nvalues:\n{v}"
                 );
             }
         }
@@ -231,6 +282,32 @@ fn balls(n: usize, join: &str) -> (String, Vec<DVec3>) {
         terms.join(" | ")
     };
     (text, centres)
+}
+
+/// The exact rule drops an operand of an n-ary `max` that another leaf dominates even
+/// where its own node's other operand does not: `F2` lies below the small ball `A`
+/// over the box, but not below the big ball `M` it is paired with.
+#[test]
+fn dominated_leaves_of_a_max_tree_are_dropped() {
+    let ball = |c: f64, r2: f64| format!("({r2} - (x - {c})^2 - y^2 - z^2)");
+    let (a, m, f1, f2) = (
+        ball(0.0, 0.04),
+        ball(1.0, 1.0),
+        ball(3.0, 0.04),
+        ball(0.6, 0.04),
+    );
+    let t = parse(&format!("max(max({a}, {f1}), max({m}, {f2}))")).unwrap();
+    assert!(t.len() >= MIN_SPECIALISE_LEN);
+    let region: [Interval; 3] = [(-0.1, 0.1); 3].map(|(lo, hi)| Interval::from_interval(lo, hi));
+    let s = t
+        .specialise_values(&region, f64::INFINITY)
+        .expect("shorter");
+    let f = s.to_formula();
+    assert!(
+        f.contains("x - 1.0") && f.contains("0.04 - (x - 0.0)^2"),
+        "{f}"
+    );
+    assert!(!f.contains("0.6") && !f.contains("x - 3"), "{f}");
 }
 
 #[test]
@@ -298,9 +375,11 @@ fn scenes_of_balls_match_the_analytic_hits_with_and_without_specialisation() {
         let model = Model::formula(&text, Some(domain)).unwrap();
         for k in ArithKind::ALL {
             let mut masks = Vec::new();
-            for specialise in [true, false] {
+            // Small tiles: the tile shapes come down a quadtree of several levels.
+            for (specialise, tile) in [(true, 64), (true, 8), (false, 64)] {
                 let mut o = RenderOptions::for_view(view, domain, w, h);
                 o.specialise = specialise;
+                o.tile = tile;
                 o.eps = Some(1e-4);
                 let r = render_kind(k, &model.shape, &o).unwrap();
                 let prec = o.precision(&cam);
@@ -309,7 +388,9 @@ fn scenes_of_balls_match_the_analytic_hits_with_and_without_specialisation() {
                     for i in 0..w {
                         let idx = (j * w + i) as usize;
                         let (ro, rd) = cam.ray(i, j);
-                        let tag = format!("{join} {k} specialise={specialise} pixel ({i},{j})");
+                        let tag = format!(
+                            "{join} {k} specialise={specialise} tile {tile} pixel ({i},{j})"
+                        );
                         let (margin, t_true, clean) = balls_hit(ro, rd, &centres);
                         if margin > 1e-9 && clip(ro, rd, &domain, 0.0).is_some() {
                             analytic += 1;
@@ -333,7 +414,8 @@ fn scenes_of_balls_match_the_analytic_hits_with_and_without_specialisation() {
                 assert!(analytic > 50, "{join}: {analytic} analytic hits");
                 masks.push(r.hit);
             }
-            assert_eq!(masks[0], masks[1], "{join} {k}: masks differ");
+            assert_eq!(masks[0], masks[2], "{join} {k}: masks differ");
+            assert_eq!(masks[1], masks[2], "{join} {k}: masks differ (small tiles)");
         }
     }
 }
@@ -352,16 +434,17 @@ fn paper_formulas_hit_the_same_pixels_with_and_without_specialisation() {
         };
         specialising += usize::from(tape.specialises());
         for k in [ArithKind::Revaa, ArithKind::Hull] {
-            let masks: Vec<Vec<bool>> = [true, false]
+            let masks: Vec<Vec<bool>> = [(true, 64), (true, 8), (false, 64)]
                 .into_iter()
-                .map(|on| {
+                .map(|(on, tile)| {
                     let mut o = RenderOptions::for_view(base.view, base.domain, 32, 24);
                     o.specialise = on;
+                    o.tile = tile;
                     render_kind(k, &model.shape, &o).unwrap().hit
                 })
                 .collect();
             let diff: Vec<usize> = (0..masks[0].len())
-                .filter(|&i| masks[0][i] != masks[1][i])
+                .filter(|&i| masks[0][i] != masks[2][i] || masks[1][i] != masks[2][i])
                 .collect();
             assert!(diff.is_empty(), "{} {k}: pixels {diff:?} differ", m.name());
         }

@@ -96,9 +96,13 @@ impl Shape for AnyShape {
         }
     }
 
-    fn specialise_values<R: arith_core::Range>(&self, region: &[R; 3]) -> Option<Self> {
+    fn specialise_values<R: arith_core::Range>(
+        &self,
+        region: &[R; 3],
+        within: f64,
+    ) -> Option<Self> {
         match self {
-            AnyShape::Expr(t) => t.specialise_values(region).map(AnyShape::Expr),
+            AnyShape::Expr(t) => t.specialise_values(region, within).map(AnyShape::Expr),
             _ => None,
         }
     }

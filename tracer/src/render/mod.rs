@@ -7,6 +7,7 @@
 pub mod bspline_filter;
 pub mod output;
 pub mod shade;
+pub mod tile_shapes;
 
 use crate::arith::ArithKind;
 use crate::camera::Camera;
@@ -25,6 +26,7 @@ use shade::{Light, Material};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
+use tile_shapes::{tile_shapes, TileShapes};
 
 /// Follows a render's progress: told the number of tiles, then each finished tile (from
 /// any of the worker threads), then the end.
@@ -292,6 +294,28 @@ pub fn render<A: Arithmetic, S: Shape>(
             ));
         }
     }
+    // A group of shading samples lies within `pad` of one of its hits (it is at most
+    // SHADE_BOX steps wide, plus a step each side), the step being largest at the
+    // farthest point of the domain from the eye (or the image plane); the tiles' value
+    // shapes hold that far around their rays (a group outside them is checked).
+    let far = (0..8)
+        .map(|k| {
+            let c = DVec3::new(
+                if k & 1 == 0 { dom.min.x } else { dom.max.x },
+                if k & 2 == 0 { dom.min.y } else { dom.max.y },
+                if k & 4 == 0 { dom.min.z } else { dom.max.z },
+            );
+            (c - cam.eye).length()
+        })
+        .fold(0.0, f64::max)
+        + cam.ortho.unwrap_or(0.0) * (1.0 + opts.height as f64 / opts.width as f64);
+    let step = precision.at(far).max(scale * SHADING_STEP);
+    let pad = (SHADE_BOX + 4.0) * step;
+    let (per_tile, tile_evals) = if opts.specialise && shape.specialises() {
+        tile_shapes(shape, &culler, (opts.width, opts.height), tile, &tiles, pad)
+    } else {
+        (Vec::new(), 0)
+    };
     if let Some(p) = &opts.progress {
         p.start(tiles.len() as u64);
     }
@@ -305,12 +329,22 @@ pub fn render<A: Arithmetic, S: Shape>(
 
     let outs: Vec<Option<TileOut>> = tiles
         .par_iter()
-        .map(|&rect| {
+        .enumerate()
+        .map(|(k, &rect)| {
             if stop() {
                 return None;
             }
             let out = render_tile::<A, S>(
-                shape, opts, &cam, &culler, &params, &light, scale, rect, &stop,
+                shape,
+                per_tile.get(k),
+                opts,
+                &cam,
+                &culler,
+                &params,
+                &light,
+                scale,
+                rect,
+                &stop,
             );
             if let Some(p) = &opts.progress {
                 p.tile_done();
@@ -328,6 +362,7 @@ pub fn render<A: Arithmetic, S: Shape>(
     let mut depth = vec![0.0f32; w * h];
     let mut stats = RenderStats {
         tiles_total: tiles.len() as u64,
+        cell_evals: tile_evals,
         ..Default::default()
     };
     for (&(i0, j0, i1, j1), out) in tiles.iter().zip(outs) {
@@ -440,7 +475,8 @@ pub fn render_kind<S: Shape>(
 
 #[allow(clippy::too_many_arguments)]
 fn render_tile<A: Arithmetic, S: Shape>(
-    shape: &S,
+    root: &S,
+    mine: Option<&TileShapes<S>>,
     opts: &RenderOptions,
     cam: &Camera,
     culler: &Culler,
@@ -450,6 +486,9 @@ fn render_tile<A: Arithmetic, S: Shape>(
     rect: (u32, u32, u32, u32),
     stop: &(dyn Fn() -> bool + Sync),
 ) -> TileOut {
+    // The tile's own shape for the search; shading and shadows reach outside the tile's
+    // rays and start from the whole one.
+    let shape = mine.and_then(|m| m.search.as_deref()).unwrap_or(root);
     let (i0, j0, i1, j1) = rect;
     let tw = (i1 - i0) as usize;
     let n = tw * (j1 - j0) as usize;
@@ -525,30 +564,33 @@ fn render_tile<A: Arithmetic, S: Shape>(
     });
     // Shading, in groups of neighbouring hits (rays come cell by cell): each group's
     // normals from the shape specialised to the box of all their samples, with the
-    // whole shape's values there.
+    // whole shape's values there. A group starts from its tile's value shape for the
+    // slice that holds it, else from its block's (specialised over the box of the
+    // block's samples when first needed). Where the tile has value shapes, a group
+    // first tries the one folded by level (see [`Shape::specialise_values`]): its
+    // samples' values are the whole shape's when they lie within the level, checked
+    // hit by hit, else they are evaluated again on the exact one.
     hits.sort_unstable_by_key(|h| h.0);
-    let by_values = opts.specialise && shape.specialises();
+    let by_values = opts.specialise && root.specialises();
     let sample_at = |&(ray, t): &(usize, f64)| {
         let RayJob { o, d, .. } = jobs[ray];
         (o + d * t, params.precision.at(t).max(scale * SHADING_STEP))
     };
     let block_len = if by_values { SHADE_BLOCK } else { 1 };
+    let values_over = |base: &S, b: &SampleBox, within: f64, st: &mut RenderStats| {
+        st.shade_evals += 1;
+        st.range_ops += base.tape_len().unwrap_or(0) as u64;
+        base.specialise_values(&b.ranges(), within)
+    };
+    let tiled = mine.filter(|m| by_values && m.slices() > 0);
+    let within = tiled.map_or(f64::INFINITY, |m| {
+        probe_level(m, root, hits.iter().take(LEVEL_PROBES).map(sample_at))
+    });
+    let mut folded: Vec<Option<Option<S>>> =
+        (0..tiled.map_or(0, |m| m.slices())).map(|_| None).collect();
     let mut at: Vec<(DVec3, f64)> = Vec::with_capacity(SHADE_GROUP);
     for block in hits.chunks(block_len) {
-        // The block's shape first (over the box of all its samples), each group's from it.
-        let values_over = |base: &S, b: &SampleBox, st: &mut RenderStats| {
-            st.shade_evals += 1;
-            st.range_ops += base.tape_len().unwrap_or(0) as u64;
-            base.specialise_values(&b.ranges())
-        };
-        let block_shape = if by_values {
-            let mut b = SampleBox::EMPTY;
-            block.iter().for_each(|hit| b = b.with(sample_at(hit)));
-            values_over(shape, &b, &mut st)
-        } else {
-            None
-        };
-        let base = block_shape.as_ref().unwrap_or(shape);
+        let mut block_shape: Option<Option<S>> = None;
         let mut rest = block;
         while !rest.is_empty() {
             // A group: up to SHADE_GROUP hits whose samples fit in a box a few steps wide
@@ -566,24 +608,72 @@ fn render_tile<A: Arithmetic, S: Shape>(
             }
             let (group, next) = rest.split_at(at.len());
             rest = next;
-            let local = if by_values {
-                values_over(base, &b, &mut st)
-            } else {
-                None
+            let slice = tiled.and_then(|m| {
+                let k = m.slice_for(b.lo, b.hi)?;
+                Some((k, m.slice(k)?))
+            });
+            let (exact, level): (&S, Option<&S>) = match slice {
+                Some((k, (bx, e))) => {
+                    let e = e.unwrap_or(root);
+                    let level = (within < f64::INFINITY).then(|| {
+                        folded[k]
+                            .get_or_insert_with(|| {
+                                st.shade_evals += 1;
+                                st.range_ops += e.tape_len().unwrap_or(0) as u64;
+                                e.specialise_values(&tile_shapes::ranges(bx), within)
+                            })
+                            .as_ref()
+                            .unwrap_or(e)
+                    });
+                    (e, level)
+                }
+                None if by_values => (
+                    block_shape
+                        .get_or_insert_with(|| {
+                            let mut bb = SampleBox::EMPTY;
+                            block.iter().for_each(|hit| bb = bb.with(sample_at(hit)));
+                            values_over(root, &bb, f64::INFINITY, &mut st)
+                        })
+                        .as_ref()
+                        .unwrap_or(root),
+                    None,
+                ),
+                None => (root, None),
             };
-            let values = local.as_ref().unwrap_or(base);
+            let fast = level.map(|l| (l, values_over(l, &b, within, &mut st)));
+            let fast = fast.as_ref().map(|(l, f)| f.as_ref().unwrap_or(l));
+            let mut slow: Option<Option<S>> = None;
             for (&(ray, t), &(p, step)) in group.iter().zip(&at) {
                 let (k, d) = (pixel_of[ray], jobs[ray].d);
                 depth[k] = t as f32;
-                let (n, confirmed) = shade::normal_and_sign_change(values, p, step);
+                st.point_evals += 6;
+                let quick = fast
+                    .map(|f| shade::sample_values(f, p, step))
+                    .filter(|s| s.iter().all(|v| v.abs() < within));
+                let s = match quick {
+                    Some(s) => s,
+                    None => {
+                        if fast.is_some() {
+                            st.point_evals += 6;
+                        }
+                        let e = match slow {
+                            Some(ref e) => e,
+                            None if by_values => {
+                                slow.insert(values_over(exact, &b, f64::INFINITY, &mut st))
+                            }
+                            None => slow.insert(None),
+                        };
+                        shade::sample_values(e.as_ref().unwrap_or(exact), p, step)
+                    }
+                };
+                let (n, confirmed) = shade::normal_of_samples(&s);
                 if !confirmed {
                     st.unconfirmed += 1;
                 }
-                st.point_evals += 6;
                 let mut in_shadow = false;
                 if opts.shadows {
                     in_shadow =
-                        shadowed::<A, S>(shape, p, n, light, opts, params, scale, step, &mut st);
+                        shadowed::<A, S>(root, p, n, light, opts, params, scale, step, &mut st);
                 }
                 let c = shade::shade(n, d, light, &opts.material, in_shadow);
                 rgb[k * 3..k * 3 + 3].copy_from_slice(&c);
@@ -599,6 +689,42 @@ fn render_tile<A: Arithmetic, S: Shape>(
         depth,
         stats: st,
         cut: !all,
+    }
+}
+
+/// Hits of a tile whose samples set its shading level (see [`probe_level`]).
+const LEVEL_PROBES: usize = 8;
+
+/// How far above the largest sample value of the probed hits the level lies.
+const LEVEL_MARGIN: f64 = 4.0;
+
+/// The level for the tile's folded value shapes: [`LEVEL_MARGIN`] times the largest
+/// value at the samples of `probes` (hits, with their sample step), from the tile's
+/// exact value shapes; `inf` (no folding) where they are all 0 or not finite. Any level
+/// is sound (values outside it are evaluated again exactly); one that holds most
+/// samples lets the folded shapes be short.
+fn probe_level<S: Shape>(
+    m: &TileShapes<S>,
+    root: &S,
+    probes: impl Iterator<Item = (DVec3, f64)>,
+) -> f64 {
+    let mut top = 0.0f64;
+    for (p, h) in probes {
+        let b = SampleBox::EMPTY.with((p, h));
+        let exact = m
+            .slice_for(b.lo, b.hi)
+            .and_then(|k| m.slice(k)?.1)
+            .unwrap_or(root);
+        for v in shade::sample_values(exact, p, h) {
+            if v.is_finite() {
+                top = top.max(v.abs());
+            }
+        }
+    }
+    if top > 0.0 {
+        LEVEL_MARGIN * top
+    } else {
+        f64::INFINITY
     }
 }
 

@@ -80,7 +80,17 @@ pub fn normal_and_sign_change<S: Shape + ?Sized>(
     p: DVec3,
     h: f64,
 ) -> (Option<DVec3>, bool) {
-    let s = samples(p, h).map(|q| shape.eval::<f64>(q.x, q.y, q.z));
+    normal_of_samples(&sample_values(shape, p, h))
+}
+
+/// The shape's values at the [`samples`] of `p` with step `h`.
+#[inline]
+pub fn sample_values<S: Shape + ?Sized>(shape: &S, p: DVec3, h: f64) -> [f64; 6] {
+    samples(p, h).map(|q| shape.eval::<f64>(q.x, q.y, q.z))
+}
+
+/// [`normal_and_sign_change`] from the values at the samples.
+pub fn normal_of_samples(s: &[f64; 6]) -> (Option<DVec3>, bool) {
     let g = DVec3::new(s[0] - s[1], s[2] - s[3], s[4] - s[5]);
     let changes =
         s.iter().any(|&v| v <= 0.0) && s.iter().any(|&v| v >= 0.0) && !s.iter().any(|v| v.is_nan());

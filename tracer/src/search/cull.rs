@@ -284,6 +284,27 @@ impl Culler {
         )
     }
 
+    /// The boxes of [`Culler::bundle_box`] for the `k` equal slices of the domain's whole
+    /// depth range (the same slices for every cell, so a cell's boxes lie inside its
+    /// parent's), `None` for a slice whose points miss the domain.
+    pub fn slice_boxes(
+        &self,
+        (i0, j0, i1, j1): (u32, u32, u32, u32),
+        k: usize,
+    ) -> Vec<Option<Aabb>> {
+        let dirs = self.bundle_dirs(i0, j0, i1, j1);
+        let origins = self.bundle_origins(i0, j0, i1, j1);
+        let (a, b) = self.s_range;
+        let edge = |i: usize| match i {
+            0 => a,
+            i if i == k => b,
+            i => a + (b - a) * i as f64 / k as f64,
+        };
+        (0..k)
+            .map(|i| Some(self.box_of(dirs, origins, (edge(i), edge(i + 1)))?.0))
+            .collect()
+    }
+
     /// [`Culler::bundle_box`] from the bundle's direction and origin bounds. The points
     /// `o + d s` (`s >= 0`) are extreme in each coordinate at `omin` or `omax`, `dmin` or
     /// `dmax` and at `s0` or `s1`; rounding is monotone, so this is exactly the box of

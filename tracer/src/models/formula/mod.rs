@@ -121,7 +121,11 @@ impl Shape for Tape {
         Tape::specialise_groups(self, regions, groups)
     }
 
-    fn specialise_values<R: arith_core::Range>(&self, region: &[R; 3]) -> Option<Self> {
-        Tape::specialise_values(self, region)
+    fn specialise_values<R: arith_core::Range>(
+        &self,
+        region: &[R; 3],
+        within: f64,
+    ) -> Option<Self> {
+        Tape::specialise_values(self, region, within)
     }
 }

@@ -28,6 +28,7 @@
 use super::tape::{finish, with_registers, Builder, Instr, Op, Tape, Val};
 use crate::models::formula::branch::Step;
 use arith_core::{Known, Range, Real};
+use arith_ia::Interval;
 use rustc_hash::FxHashMap as HashMap;
 use std::sync::Mutex;
 
@@ -43,12 +44,53 @@ pub const CACHE_LIMIT: usize = 512;
 pub(crate) struct Specialiser {
     /// Per register: only its sign matters.
     sign_only: Vec<bool>,
+    /// Per register: it reaches the result only through `min`, `max` and negation
+    /// (a subset of the sign-only ones), so it may be folded by level.
+    level_only: Vec<bool>,
     /// Per register: its bounds can decide something.
     watch: Vec<bool>,
+    /// The tape's chains of `min` (`max`) whose inner nodes have no other use: n-ary
+    /// minima (maxima) of their leaves.
+    chains: Vec<Chain>,
     /// Whether specialising can ever shorten the tape.
     worth: bool,
     /// Tapes built so far, by decisions (`None`: no shorter than this one).
     cache: Mutex<HashMap<Vec<u8>, Option<Tape>>>,
+}
+
+/// An n-ary `min` or `max` spread over a tree of binary ones (see [`Specialiser`]).
+#[derive(Debug)]
+struct Chain {
+    max: bool,
+    /// Its nodes, operands before their consumers (by register), the root last.
+    nodes: Vec<ChainNode>,
+}
+
+#[derive(Debug)]
+struct ChainNode {
+    reg: u32,
+    kids: [Kid; 2],
+}
+
+/// An operand of a chain's node.
+#[derive(Clone, Copy, Debug)]
+enum Kid {
+    /// Another node of the chain (its index in [`Chain::nodes`]).
+    Node(u32),
+    /// A leaf (its register).
+    Leaf(u32),
+}
+
+/// What the rewrite may fold besides the exact rule.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Fold {
+    /// Nothing: the value is kept everywhere.
+    Exact,
+    /// Sign-only registers of one sign, to `1` or `-1`: the sign is kept.
+    Sign,
+    /// Level-only registers beyond `(-d, d)`, to `inf` or `-inf`: the value is kept
+    /// wherever it lies in `(-d, d)` (see [`Tape::specialise_values`]).
+    Level(f64),
 }
 
 /// A register kept as it is.
@@ -78,12 +120,15 @@ impl Specialiser {
     fn new(ins: &[Instr]) -> Self {
         let n = ins.len();
         let mut sign_only = vec![false; n];
+        let mut level_only = vec![false; n];
         let mut all_uses_pass = vec![true; n];
+        let mut all_uses_level = vec![true; n];
         let mut used = vec![false; n];
         // Consumers come after their operands: walking backwards, a register's every
         // use has been seen when it is reached.
         for j in (0..n).rev() {
             sign_only[j] = j == n - 1 || (used[j] && all_uses_pass[j]);
+            level_only[j] = j == n - 1 || (used[j] && all_uses_level[j]);
             let i = &ins[j];
             for &k in i.operands() {
                 let r = i.reg(k) as usize;
@@ -92,6 +137,7 @@ impl Specialiser {
                 let passes =
                     matches!(i.op, Op::Gt0 | Op::Ge0) || (sign_only[j] && passes_sign(i, k));
                 all_uses_pass[r] &= passes;
+                all_uses_level[r] &= level_only[j] && matches!(i.op, Op::Min | Op::Max | Op::Neg);
             }
         }
         // Every operand of a `min` or `max` (constants too), and the sign-only registers.
@@ -104,6 +150,7 @@ impl Specialiser {
                 choices += 1;
             }
         }
+        let chains = chains(ins);
         let signs = sign_only[..n.saturating_sub(1)]
             .iter()
             .zip(ins)
@@ -111,26 +158,34 @@ impl Specialiser {
             .count();
         Specialiser {
             sign_only,
+            level_only,
             watch,
+            chains,
             worth: n >= MIN_SPECIALISE_LEN && choices + signs > 0,
             cache: Mutex::new(HashMap::default()),
         }
     }
 
-    /// The decision for each register, from the bounds of the watched ones; without
-    /// `by_sign`, the exact rule only.
-    fn decide(&self, ins: &[Instr], bounds: &[(f64, f64)], by_sign: bool) -> Vec<u8> {
-        ins.iter()
+    /// The decision for each register, from the bounds of the watched ones, with the
+    /// exact rule and the folding `fold`.
+    fn decide(&self, ins: &[Instr], bounds: &[(f64, f64)], fold: Fold) -> Vec<u8> {
+        let mut decisions: Vec<u8> = ins
+            .iter()
             .enumerate()
             .map(|(k, i)| {
                 let (lo, hi) = bounds[k];
                 // A constant keeps its own value (and the result deciding alone means
                 // no root at all: nothing to shorten, but harmless).
-                if by_sign && self.sign_only[k] && i.op != Op::Const {
-                    if lo > 0.0 {
+                let folds = match fold {
+                    Fold::Exact => None,
+                    Fold::Sign => self.sign_only[k].then_some(0.0),
+                    Fold::Level(d) => self.level_only[k].then_some(d),
+                };
+                if let Some(d) = folds.filter(|_| i.op != Op::Const) {
+                    if lo > d {
                         return POS;
                     }
-                    if hi < 0.0 {
+                    if hi < -d {
                         return NEG;
                     }
                 }
@@ -143,7 +198,122 @@ impl Specialiser {
                     _ => KEEP,
                 }
             })
-            .collect()
+            .collect();
+        let mut gone = Vec::new();
+        for c in &self.chains {
+            c.drop_dominated(bounds, &mut decisions, &mut gone);
+        }
+        decisions
+    }
+}
+
+/// The chains of `ins` (see [`Specialiser::chains`]): a `min` or `max` node is inner
+/// when its one use is an operand of the same operation.
+fn chains(ins: &[Instr]) -> Vec<Chain> {
+    let n = ins.len();
+    let mut uses = vec![0u32; n];
+    let mut user = vec![u32::MAX; n];
+    for (j, i) in ins.iter().enumerate() {
+        for &k in i.operands() {
+            let r = i.reg(k) as usize;
+            uses[r] += 1;
+            user[r] = j as u32;
+        }
+    }
+    let inner = |r: usize| {
+        matches!(ins[r].op, Op::Min | Op::Max)
+            && r != n - 1
+            && uses[r] == 1
+            && ins[user[r] as usize].op == ins[r].op
+    };
+    let mut out = Vec::new();
+    for (root, i) in ins.iter().enumerate() {
+        if !matches!(i.op, Op::Min | Op::Max) || inner(root) {
+            continue;
+        }
+        // The nodes below the root, found from it, then put in register order.
+        let mut regs = vec![root];
+        let mut k = 0;
+        while k < regs.len() {
+            let j = &ins[regs[k]];
+            for r in [j.a as usize, j.b as usize] {
+                if inner(r) {
+                    regs.push(r);
+                }
+            }
+            k += 1;
+        }
+        if regs.len() < 2 {
+            continue;
+        }
+        regs.sort_unstable();
+        let nodes = regs
+            .iter()
+            .map(|&r| ChainNode {
+                reg: r as u32,
+                kids: [ins[r].a, ins[r].b].map(|o| match regs.binary_search(&(o as usize)) {
+                    Ok(p) if inner(o as usize) => Kid::Node(p as u32),
+                    _ => Kid::Leaf(o),
+                }),
+            })
+            .collect();
+        out.push(Chain {
+            max: i.op == Op::Max,
+            nodes,
+        });
+    }
+    out
+}
+
+impl Chain {
+    /// Drops the leaves that another leaf dominates over the region (for a `max`, a
+    /// leaf whose upper bound is at most the greatest lower bound of a leaf: it is
+    /// never above that leaf, so never the maximum alone), by turning the nodes above
+    /// them into decided ones. Exact, like the binary rule it extends: the chain's value
+    /// is unchanged at every point of the region. `gone` is scratch space.
+    fn drop_dominated(&self, bounds: &[(f64, f64)], decisions: &mut [u8], gone: &mut Vec<bool>) {
+        // A leaf's key: how far up (for a max) it is sure to reach, and where it may end.
+        let key = |r: u32| {
+            let (lo, hi) = bounds[r as usize];
+            if self.max {
+                (lo, hi)
+            } else {
+                (-hi, -lo)
+            }
+        };
+        let mut best: Option<(usize, usize, f64)> = None;
+        for (p, node) in self.nodes.iter().enumerate() {
+            for (s, kid) in node.kids.iter().enumerate() {
+                if let Kid::Leaf(r) = *kid {
+                    let sure = key(r).0;
+                    if best.is_none_or(|b| sure > b.2) {
+                        best = Some((p, s, sure));
+                    }
+                }
+            }
+        }
+        let Some((bp, bs, floor)) = best else {
+            return;
+        };
+        gone.clear();
+        gone.resize(self.nodes.len(), false);
+        for (p, node) in self.nodes.iter().enumerate() {
+            let d: [bool; 2] = core::array::from_fn(|s| match node.kids[s] {
+                Kid::Node(c) => gone[c as usize],
+                // NaN bounds compare false: an unknown leaf stays.
+                Kid::Leaf(r) => (p, s) != (bp, bs) && key(r).1 <= floor,
+            });
+            gone[p] = d[0] && d[1];
+            let k = node.reg as usize;
+            if matches!(decisions[k], POS | NEG) {
+                continue;
+            }
+            if d[0] && !d[1] {
+                decisions[k] = TAKE_B;
+            } else if d[1] && !d[0] {
+                decisions[k] = TAKE_A;
+            }
+        }
     }
 }
 
@@ -191,22 +361,93 @@ impl Tape {
         which[0].map(|k| tapes.swap_remove(k))
     }
 
-    /// A tape with the same value as this one at every point of the region that
-    /// `region` encloses, for shading: only the exact rule (decided `min`/`max`)
-    /// applied, nothing folded by sign. `None` when nothing shortens it.
-    pub fn specialise_values<R: Range>(&self, region: &[R; 3]) -> Option<Tape> {
+    /// A tape with the same value as this one, for shading, at every point of the
+    /// region that `region` encloses where its own value lies strictly inside
+    /// `(-within, within)` (everywhere for `within = inf`): the exact rule applied
+    /// (decided `min`/`max`, dominated operands of n-ary ones dropped), and registers
+    /// that reach the result only through `min`, `max` and negation folded to `inf`
+    /// (`-inf`) where they lie above `within` (below `-within`). `None` when nothing
+    /// shortens it.
+    ///
+    /// Why the folding keeps those values: the clamp `k(t) = min(max(t, -d), d)`
+    /// commutes with `min`, `max` and negation, and maps a folded register and its
+    /// constant alike, so `k(g) = k(f)` at every point of the region; where
+    /// `|g| < d`, `g = k(g) = k(f)`, which only `f = g` gives. `min` and `max` select one
+    /// operand, so this holds for the rounded values too, the bounds enclosing the
+    /// rounded values of the folded registers. Applied again to the tape it gives (same
+    /// `within`, a region inside this one), it keeps the same property.
+    ///
+    /// ```
+    /// use arith_core::Range;
+    /// use arith_ia::Interval;
+    /// use tracer::models::formula::parse;
+    /// // A ball at the origin and three a little way off.
+    /// let t = parse("ball = 0.25 - x^2 - y^2 - z^2;
+    ///                max(max(ball, 0.25 - (x-2)^2 - y^2 - z^2),
+    ///                    max(0.25 - x^2 - (y-2)^2 - z^2, 0.25 - x^2 - y^2 - (z-2)^2))").unwrap();
+    /// let i = |lo, hi| Interval::from_interval(lo, hi);
+    /// let around = [i(-1.0, 1.0), i(-1.0, 1.0), i(-1.0, 1.0)];
+    /// // Over the box the balls' ranges overlap: the exact rules keep them all...
+    /// assert!(t.specialise_values(&around, f64::INFINITY).is_none());
+    /// // ... while the others lie below -0.75 there, so within 0.5 of 0 the value is
+    /// // the first ball's.
+    /// let s = t.specialise_values(&around, 0.5).unwrap();
+    /// assert_eq!(s.to_formula(), "0.25 - x^2 - y^2 - z^2");
+    /// ```
+    pub fn specialise_values<R: Range>(&self, region: &[R; 3], within: f64) -> Option<Tape> {
         let spec = self.specialiser();
         if !spec.worth {
             return None;
         }
         let ins = self.instructions();
         let bounds = self.watched_bounds(spec, region);
-        let decisions = spec.decide(ins, &bounds, false);
+        let fold = if within < f64::INFINITY {
+            Fold::Level(within)
+        } else {
+            Fold::Exact
+        };
+        let decisions = spec.decide(ins, &bounds, fold);
         if decisions.iter().all(|&d| d == KEEP) {
             return None;
         }
-        let t = rebuild(ins, None, &decisions);
+        let folded = (fold != Fold::Exact).then_some(&spec.level_only[..]);
+        let t = rebuild(ins, folded, fold, &decisions);
         (t.len() < ins.len()).then_some(t)
+    }
+
+    /// Each watched register's bounds over `region`, in `R` and, for an arithmetic
+    /// with symbols, also in intervals over the box of the region's inputs: both
+    /// enclose the register's values there, so their intersection does. Over a long
+    /// oblique region (a culling cell's depth slice) intervals over its box keep the
+    /// far parts of a scene apart that an affine form loses to its quadratic error
+    /// terms, while over the thin regions of the rays' segments the affine forms are
+    /// the tighter; measured on scenes of balls and the Shikki scene, the two together
+    /// shorten the tapes more than either.
+    fn region_bounds<R: Range>(&self, spec: &Specialiser, region: &[R; 3]) -> Vec<(f64, f64)> {
+        let mut own = self.watched_bounds(spec, region);
+        if R::INPUTS == usize::MAX {
+            return own;
+        }
+        let boxed: [Interval; 3] = core::array::from_fn(|k| {
+            let (lo, hi) = region[k].bounds();
+            Interval::from_interval(lo, hi)
+        });
+        for (a, b) in own.iter_mut().zip(self.watched_bounds(spec, &boxed)) {
+            *a = if a.0.is_nan() {
+                b
+            } else if b.0.is_nan() {
+                *a
+            } else {
+                let (lo, hi) = (a.0.max(b.0), a.1.min(b.1));
+                // Empty only through a NaN among the values: decide nothing.
+                if lo <= hi {
+                    (lo, hi)
+                } else {
+                    (f64::NAN, f64::NAN)
+                }
+            };
+        }
+        own
     }
 
     /// Each watched register's bounds over `region`; NaN (decides nothing) for the
@@ -240,7 +481,7 @@ impl Tape {
         let ins = self.instructions();
         let per_region: Vec<Vec<(f64, f64)>> = regions
             .iter()
-            .map(|r| self.watched_bounds(spec, r))
+            .map(|r| self.region_bounds(spec, r))
             .collect();
         let mut tapes: Vec<Tape> = Vec::new();
         let mut built: HashMap<Vec<u8>, Option<usize>> = HashMap::default();
@@ -268,7 +509,7 @@ impl Tape {
                         })
                     })
                     .collect();
-                let decisions = spec.decide(ins, &bounds, true);
+                let decisions = spec.decide(ins, &bounds, Fold::Sign);
                 if decisions.iter().all(|&d| d == KEEP) {
                     return None;
                 }
@@ -294,7 +535,7 @@ impl Tape {
                 return t.clone();
             }
         }
-        let t = rebuild(ins, Some(&spec.sign_only), decisions);
+        let t = rebuild(ins, Some(&spec.sign_only), Fold::Sign, decisions);
         let t = (t.len() < ins.len()).then_some(t);
         if let Ok(mut cache) = spec.cache.lock() {
             if cache.len() < CACHE_LIMIT {
@@ -306,8 +547,14 @@ impl Tape {
 }
 
 /// The tape `ins` with `decisions` applied, simplified and stripped of dead code;
-/// registers marked in `sign_only` (none where `None`) are folded by sign.
-fn rebuild(ins: &[Instr], sign_only: Option<&[bool]>, decisions: &[u8]) -> Tape {
+/// registers marked in `folded` (none where `None`) are folded as `fold` says.
+fn rebuild(ins: &[Instr], folded: Option<&[bool]>, fold: Fold, decisions: &[u8]) -> Tape {
+    let level = matches!(fold, Fold::Level(_));
+    let (plus, minus) = if level {
+        (f64::INFINITY, f64::NEG_INFINITY)
+    } else {
+        (1.0, -1.0)
+    };
     let n = ins.len();
     // What the result still reads once the decisions are made (emitting the rest would
     // only be undone by `finish`).
@@ -337,15 +584,15 @@ fn rebuild(ins: &[Instr], sign_only: Option<&[bool]>, decisions: &[u8]) -> Tape 
         }
         let arg = |p: usize| map[i.reg(p) as usize];
         map[k] = match decisions[k] {
-            POS => Val::C(1.0),
-            NEG => Val::C(-1.0),
+            POS => Val::C(plus),
+            NEG => Val::C(minus),
             TAKE_A => arg(0),
             TAKE_B => arg(1),
             _ => reemit(
                 &mut b,
                 i,
                 [arg(0), arg(1), arg(2)],
-                sign_only.is_some_and(|s| s[k]),
+                folded.is_some_and(|s| s[k]).then_some(level),
             ),
         };
     }
@@ -355,7 +602,7 @@ fn rebuild(ins: &[Instr], sign_only: Option<&[bool]>, decisions: &[u8]) -> Tape 
 
 /// `i` over the new operands `v`, folded where they are constants: exactly where the
 /// value matters, by sign where only the sign does (`sign`).
-fn reemit(b: &mut Builder, i: &Instr, v: [Val; 3], sign: bool) -> Val {
+fn reemit(b: &mut Builder, i: &Instr, v: [Val; 3], fold: Option<bool>) -> Val {
     use super::ast::BinOp;
     let [a, c2, e] = v;
     let c = Val::C(i.c);
@@ -363,8 +610,21 @@ fn reemit(b: &mut Builder, i: &Instr, v: [Val; 3], sign: bool) -> Val {
         let (x, y) = (b.reg(x), b.reg(y));
         Val::R(b.emit(Instr::new(op, x, y, 0, 0.0)))
     };
-    let pos = |v: Val| matches!(v, Val::C(p) if p > 0.0);
-    let neg = |v: Val| matches!(v, Val::C(p) if p < 0.0);
+    // By sign (`Some(false)`) every positive constant stands for "positive"; by level
+    // (`Some(true)`) only the folded `inf` stands for "above the level" (a constant of
+    // the model keeps its value), and only `min`, `max` and negation are folded.
+    let sign = fold.is_some();
+    let level = fold == Some(true);
+    let (top, bottom) = if level {
+        (f64::INFINITY, f64::NEG_INFINITY)
+    } else {
+        (1.0, -1.0)
+    };
+    let pos = |v: Val| matches!(v, Val::C(p) if p > 0.0 && (!level || p == f64::INFINITY));
+    let neg = |v: Val| matches!(v, Val::C(p) if p < 0.0 && (!level || p == f64::NEG_INFINITY));
+    let meet = matches!(i.op, Op::Min) || (!level && i.op == Op::Intersect);
+    let join = matches!(i.op, Op::Max) || (!level && i.op == Op::Union);
+    let subtract = !level && i.op == Op::Subtract;
     match i.op {
         Op::X | Op::Y | Op::Z => Val::R(b.emit(Instr::new(i.op, 0, 0, 0, 0.0))),
         Op::Const => c,
@@ -387,29 +647,29 @@ fn reemit(b: &mut Builder, i: &Instr, v: [Val; 3], sign: bool) -> Val {
         Op::Div => b.binary(BinOp::Div, a, c2),
         // By sign: a meet is its other operand where one is positive, negative where
         // one is negative; a join the other way round.
-        Op::Min | Op::Intersect if sign && (pos(a) || pos(c2)) => {
+        _ if meet && sign && (pos(a) || pos(c2)) => {
             if pos(a) {
                 c2
             } else {
                 a
             }
         }
-        Op::Min | Op::Intersect if sign && (neg(a) || neg(c2)) => Val::C(-1.0),
-        Op::Max | Op::Union if sign && (neg(a) || neg(c2)) => {
+        _ if meet && sign && (neg(a) || neg(c2)) => Val::C(bottom),
+        _ if join && sign && (neg(a) || neg(c2)) => {
             if neg(a) {
                 c2
             } else {
                 a
             }
         }
-        Op::Max | Op::Union if sign && (pos(a) || pos(c2)) => Val::C(1.0),
+        _ if join && sign && (pos(a) || pos(c2)) => Val::C(top),
         // `a \ b` is `a & -b`.
-        Op::Subtract if sign && neg(c2) => a,
-        Op::Subtract if sign && pos(a) => match c2 {
+        _ if subtract && sign && neg(c2) => a,
+        _ if subtract && sign && pos(a) => match c2 {
             Val::C(q) => Val::C(-q),
             _ => b.unary(Op::Neg, c2),
         },
-        Op::Subtract if sign && (neg(a) || pos(c2)) => Val::C(-1.0),
+        _ if subtract && sign && (neg(a) || pos(c2)) => Val::C(-1.0),
         Op::Min | Op::Max => match (a, c2) {
             (Val::C(p), Val::C(q)) => Val::C(if i.op == Op::Min {
                 Real::min(&p, &q)
