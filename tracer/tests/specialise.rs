@@ -195,7 +195,7 @@ proptest! {
             prop_assert!(v.len() < t.len());
             for p in points_in(&b, seed) {
                 let (a, c): (f64, f64) = (t.eval(p[0], p[1], p[2]), v.eval(p[0], p[1], p[2]));
-                if within.is_finite() && !(c.abs() < within) {
+                if within.is_finite() && (c.is_nan() || c.abs() >= within) {
                     continue;
                 }
                 prop_assert!(
@@ -221,7 +221,7 @@ proptest! {
             prop_assert!(v.len() < t.len());
             for p in points_in(&b, seed) {
                 let (a, c): (f64, f64) = (t.eval(p[0], p[1], p[2]), v.eval(p[0], p[1], p[2]));
-                if !(c.abs() < within) {
+                if c.is_nan() || c.abs() >= within {
                     continue;
                 }
                 prop_assert!(

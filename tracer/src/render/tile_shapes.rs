@@ -67,6 +67,9 @@ pub fn ranges(b: &Aabb) -> [Interval; 3] {
     core::array::from_fn(|k| Interval::from_interval(b.min[k], b.max[k]))
 }
 
+/// A tile's corner and its shapes.
+type Leaf<S> = ((u32, u32), TileShapes<S>);
+
 /// A quadtree node's shapes while the tree is built: `None` where the whole shape's.
 struct Node<S> {
     search: Option<Arc<S>>,
@@ -126,7 +129,7 @@ fn visit<S: Shape>(
     (c0, r0, c1, r1): (u32, u32, u32, u32),
     parent: &Node<S>,
     pad: f64,
-    leaves: &mut Vec<((u32, u32), TileShapes<S>)>,
+    leaves: &mut Vec<Leaf<S>>,
 ) -> u64 {
     let rect = (
         c0 * tile,
@@ -186,7 +189,7 @@ fn visit<S: Shape>(
         .flat_map(|(a0, a1)| [(r0, rm), (rm, r1)].map(|(b0, b1)| (a0, b0, a1, b1)))
         .filter(|&(a0, b0, a1, b1)| a0 < a1 && b0 < b1)
         .collect();
-    let parts: Vec<(u64, Vec<((u32, u32), TileShapes<S>)>)> = quads
+    let parts: Vec<(u64, Vec<Leaf<S>>)> = quads
         .into_par_iter()
         .map(|q| {
             let mut mine = Vec::new();
