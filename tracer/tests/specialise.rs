@@ -32,10 +32,18 @@ fn leaf() -> impl Strategy<Value = String> {
     ]
 }
 
+/// Random trees of [`leaf`]s under `ops` (templates in `{a}` and `{b}`).
+fn trees_of(ops: &'static [&'static str], depth: u32, size: u32) -> impl Strategy<Value = String> {
+    leaf().prop_recursive(depth, size, 2, move |inner| {
+        (prop::sample::select(ops), inner.clone(), inner)
+            .prop_map(|(op, a, b)| op.replace("{a}", &a).replace("{b}", &b))
+    })
+}
+
 /// Trees over the operations specialisation looks through, and others it must not.
 fn tree() -> impl Strategy<Value = String> {
-    leaf().prop_recursive(6, 48, 2, |inner| {
-        let ops = [
+    trees_of(
+        &[
             "min({a}, {b})",
             "max({a}, {b})",
             "({a} & {b})",
@@ -52,25 +60,25 @@ fn tree() -> impl Strategy<Value = String> {
             "exp({a}) - 1",
             "blend_union({a}, {b})",
             "min({a}, {a})",
-        ];
-        (prop::sample::select(ops.to_vec()), inner.clone(), inner)
-            .prop_map(|(op, a, b)| op.replace("{a}", &a).replace("{b}", &b))
-    })
+        ],
+        6,
+        48,
+    )
 }
 
 /// Trees of balls under `min`, `max` and negation only: every register is folded by
 /// level where it can be, which the mixed trees of [`tree`] seldom reach.
 fn lattice() -> impl Strategy<Value = String> {
-    leaf().prop_recursive(5, 32, 2, |inner| {
-        let ops = [
+    trees_of(
+        &[
             "min({a}, {b})",
             "max({a}, {b})",
             "-max({a}, {b})",
             "max(-{a}, {b})",
-        ];
-        (prop::sample::select(ops.to_vec()), inner.clone(), inner)
-            .prop_map(|(op, a, b)| op.replace("{a}", &a).replace("{b}", &b))
-    })
+        ],
+        5,
+        32,
+    )
 }
 
 /// The box `centre ± half`.

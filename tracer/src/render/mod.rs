@@ -18,7 +18,7 @@ use crate::search::ray::{
 };
 use crate::search::windows::Windows;
 use crate::shape::{check_domain, Aabb, Shape, View};
-use arith_core::{Arithmetic, Range};
+use arith_core::Arithmetic;
 use arith_ia::Interval;
 use glam::DVec3;
 use rayon::prelude::*;
@@ -460,7 +460,7 @@ impl SampleBox {
 
     /// Its sides as intervals.
     fn ranges(&self) -> [Interval; 3] {
-        core::array::from_fn(|k| Interval::from_interval(self.lo[k], self.hi[k]))
+        tile_shapes::ranges(&Aabb::new(self.lo, self.hi))
     }
 }
 
