@@ -23,6 +23,8 @@ use crate::{Range, Real};
 use core::marker::PhantomData;
 use core::ops::{Add, Div, Mul, Neg, Sub};
 pub use wide::f64x4;
+
+pub mod tight;
 use wide::{bytemuck, i64x4};
 
 /// A scalar reduced affine form `x0 + Σ xs[i] εi ± e` whose affine operations are the
@@ -146,7 +148,24 @@ pub fn add_dir_up(a: f64x4, b: f64x4) -> f64x4 {
     t.simd_gt(splat(0.0)).select(step_up(s), s)
 }
 
+/// [`crate::affine_round::add_dir_down`] per lane.
+#[inline(always)]
+pub fn add_dir_down(a: f64x4, b: f64x4) -> f64x4 {
+    let s = a + b;
+    let bb = s - a;
+    let t = (a - (s - bb)) + (b - bb);
+    t.simd_lt(splat(0.0)).select(-step_up(-s), s)
+}
+
 impl<const N: usize, F> ReducedX4<N, F> {
+    /// [`crate::reduced::Reduced`]'s `bounds` per lane where both are finite (the
+    /// scalar then gives the whole line): `x0 ∓ rad_dir()`, outward rounded.
+    #[inline(always)]
+    pub fn bounds_dir(&self) -> (f64x4, f64x4) {
+        let rad = self.rad_dir();
+        (add_dir_down(self.x0, -rad), add_dir_up(self.x0, rad))
+    }
+
     /// The forms of these parts, as they are (no radius may be negative).
     #[inline(always)]
     pub fn new(x0: f64x4, xs: [f64x4; N], e: f64x4) -> Self {

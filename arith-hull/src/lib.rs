@@ -59,11 +59,13 @@
 #![warn(missing_docs)]
 
 use arith_core::approx::{self, Approx};
-use arith_core::pack::Lanes;
 use arith_core::{AffinePart, Arithmetic, Known, Range, Real};
 use arith_ia::Interval;
 use arith_revaa::RevAa;
 use core::ops::{Add, Div, Mul, Neg, Sub};
+
+mod pack;
+pub use pack::HullX4;
 
 /// A revised affine form with `N` input symbols and an interval hull of the same value.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -83,8 +85,8 @@ impl Arithmetic for HullArith {
     const LABEL: &'static str = "Hull";
     type Ray = Hull<1>;
     type Cell = Hull<3>;
-    type RayPack = Lanes<Hull<1>>;
-    type CellPack = Lanes<Hull<3>>;
+    type RayPack = HullX4<1>;
+    type CellPack = HullX4<3>;
 }
 
 /// `[a, b] ∩ [c, d]`, or their union where rounding made them disjoint.
@@ -147,6 +149,28 @@ impl<const N: usize> Hull<N> {
             narrower(own(&self.affine), self.affine.apply(fit(lo, hi)))
         } else {
             own(&self.affine)
+        };
+        Self::new(affine, interval)
+    }
+}
+
+impl<const N: usize> Hull<N> {
+    /// [`Real::hypot`] from the squares' sum `s = x.sqr() + y.sqr()` and revised affine
+    /// arithmetic's fused `hypot` of the affine parts, `own` (the SIMD pack forms both in
+    /// lanes).
+    #[inline(always)]
+    fn hypot_of_sum(&self, other: &Self, s: Self, own: RevAa<N>) -> Self {
+        let ((xl, xh), _) = self.ranges();
+        let ((yl, yh), _) = other.ranges();
+        let floor = approx::sum_sq_floor((xl, xh), (yl, yh));
+        let ((lo, hi), (al, ah)) = s.ranges();
+        // A floor above the upper bound can only come from rounding: then no cut.
+        let lo = if floor <= hi { lo.max(floor) } else { lo };
+        let interval = Interval::new(lo, hi).sqrt();
+        let affine = if al.is_finite() && ah.is_finite() && cuts_a_quarter((lo, hi), (al, ah)) {
+            narrower(own, s.affine.apply(approx::sqrt(lo, hi)))
+        } else {
+            own
         };
         Self::new(affine, interval)
     }
@@ -299,21 +323,8 @@ impl<const N: usize> Real for Hull<N> {
     /// ([`approx::sum_sq_floor`]); revised affine arithmetic's fused `hypot` is the
     /// affine candidate it is compared with.
     fn hypot(&self, other: &Self) -> Self {
-        let ((xl, xh), _) = self.ranges();
-        let ((yl, yh), _) = other.ranges();
-        let floor = approx::sum_sq_floor((xl, xh), (yl, yh));
         let s = self.sqr() + other.sqr();
-        let ((lo, hi), (al, ah)) = s.ranges();
-        // A floor above the upper bound can only come from rounding: then no cut.
-        let lo = if floor <= hi { lo.max(floor) } else { lo };
-        let interval = Interval::new(lo, hi).sqrt();
-        let own = self.affine.hypot(&other.affine);
-        let affine = if al.is_finite() && ah.is_finite() && cuts_a_quarter((lo, hi), (al, ah)) {
-            narrower(own, s.affine.apply(approx::sqrt(lo, hi)))
-        } else {
-            own
-        };
-        Self::new(affine, interval)
+        self.hypot_of_sum(other, s, self.affine.hypot(&other.affine))
     }
 
     fn recip(&self) -> Self {

@@ -31,7 +31,10 @@
 #![warn(missing_docs)]
 
 use arith_core::{approx, Arithmetic, Range, Real};
+
+mod pack;
 use core::ops::{Add, Div, Mul, Neg, Sub};
+pub use pack::IntervalX4;
 
 use arith_core::round::{
     add_hi, add_lo, div_hi, div_lo, mul_hi, mul_lo, pow_hi_nonneg, pow_lo_nonneg,
@@ -59,8 +62,8 @@ impl Arithmetic for IaArith {
     const LABEL: &'static str = "IA";
     type Ray = Interval;
     type Cell = Interval;
-    type RayPack = arith_core::pack::Lanes<Interval>;
-    type CellPack = arith_core::pack::Lanes<Interval>;
+    type RayPack = IntervalX4;
+    type CellPack = IntervalX4;
 }
 
 impl Interval {

@@ -29,7 +29,7 @@ use super::{dekker_err, two_sum, ETA, EXACT_MIN, FACTOR_MIN, SPLIT_MAX};
 /// `|a*b| >= 2^-960` the exact error `a*b - fl(a*b)` is a multiple of
 /// `ulp(a)*ulp(b) >= 2^-1066` below `ulp(fl(a*b))`, hence an `f64`; likewise the division
 /// remainder for `|a| >= 2^-960`.)
-const TINY: f64 = f64::from_bits(63 << 52);
+pub(crate) const TINY: f64 = f64::from_bits(63 << 52);
 
 /// `2^600`: scales near-underflow operands into the range where the checks are exact.
 const SCALE: f64 = f64::from_bits((1023 + 600) << 52);
