@@ -25,7 +25,6 @@ use core::ops::{Add, Div, Mul, Neg, Sub};
 pub use wide::f64x4;
 
 pub mod tight;
-use wide::{bytemuck, i64x4};
 
 /// A scalar reduced affine form `x0 + Σ xs[i] εi ± e` whose affine operations are the
 /// shared ones of this module, with its own product and square in lanes.
@@ -131,30 +130,26 @@ pub fn up_abs(s: f64x4, k: usize) -> f64x4 {
     s * splat(slack(k)) + splat((k + 1) as f64 * ETA)
 }
 
-/// `crate::round::step_up` per lane: the bits plus 1 (positive) or minus 1 (negative).
+/// Knuth's TwoSum per lane: `s = fl(a + b)` and `e` with `s + e == a + b` exactly.
 #[inline(always)]
-fn step_up(s: f64x4) -> f64x4 {
-    let b: i64x4 = bytemuck::cast(s);
-    let neg = i64x4::splat(0).simd_gt(b); // all ones where b < 0
-    bytemuck::cast(b + (neg | i64x4::splat(1)))
+pub(crate) fn two_sum(a: f64x4, b: f64x4) -> (f64x4, f64x4) {
+    let s = a + b;
+    let bb = s - a;
+    (s, (a - (s - bb)) + (b - bb))
 }
 
 /// [`crate::affine_round::add_dir_up`] per lane.
 #[inline(always)]
 pub fn add_dir_up(a: f64x4, b: f64x4) -> f64x4 {
-    let s = a + b;
-    let bb = s - a;
-    let t = (a - (s - bb)) + (b - bb);
-    t.simd_gt(splat(0.0)).select(step_up(s), s)
+    let (s, t) = two_sum(a, b);
+    t.simd_gt(splat(0.0)).select(tight::next_up(s), s)
 }
 
 /// [`crate::affine_round::add_dir_down`] per lane.
 #[inline(always)]
 pub fn add_dir_down(a: f64x4, b: f64x4) -> f64x4 {
-    let s = a + b;
-    let bb = s - a;
-    let t = (a - (s - bb)) + (b - bb);
-    t.simd_lt(splat(0.0)).select(-step_up(-s), s)
+    let (s, t) = two_sum(a, b);
+    t.simd_lt(splat(0.0)).select(tight::next_down(s), s)
 }
 
 impl<const N: usize, F> ReducedX4<N, F> {

@@ -152,9 +152,7 @@ impl<const N: usize> Hull<N> {
         };
         Self::new(affine, interval)
     }
-}
 
-impl<const N: usize> Hull<N> {
     /// [`Real::hypot`] from the squares' sum `s = x.sqr() + y.sqr()` and revised affine
     /// arithmetic's fused `hypot` of the affine parts, `own` (the SIMD pack forms both in
     /// lanes).

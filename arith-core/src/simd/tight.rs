@@ -11,7 +11,7 @@
 //! scalar function. Products need a fused multiply-add for their error term: on targets
 //! without one every product mask is clear.
 
-use super::{f64x4, splat};
+use super::{f64x4, splat, two_sum};
 use crate::round::tight::TINY;
 use wide::{bytemuck, i64x4};
 
@@ -35,9 +35,7 @@ pub fn next_down(s: f64x4) -> f64x4 {
 /// is not finite. (A sum that rounds to 0 is exact, so a zero lane is never stepped.)
 #[inline(always)]
 pub fn add_lo(a: f64x4, b: f64x4) -> (f64x4, f64x4) {
-    let s = a + b;
-    let bb = s - a;
-    let e = (a - (s - bb)) + (b - bb);
+    let (s, e) = two_sum(a, b);
     let ok = s.is_finite() & e.is_finite();
     (e.simd_lt(splat(0.0)).select(next_down(s), s), ok)
 }
@@ -58,14 +56,20 @@ const FUSED: bool = cfg!(all(target_feature = "avx", target_feature = "fma"));
 /// branches), and everywhere on targets without a fused multiply-add.
 #[inline(always)]
 pub fn mul_lo(a: f64x4, b: f64x4) -> (f64x4, f64x4) {
+    let (p, e, ok) = product(a, b);
+    (e.simd_lt(splat(0.0)).select(next_down(p), p), ok)
+}
+
+/// The rounded product, its exact error and the common-path mask of [`mul_lo`].
+#[inline(always)]
+fn product(a: f64x4, b: f64x4) -> (f64x4, f64x4, f64x4) {
     let p = a * b;
     let ok = if FUSED {
         p.is_finite() & p.abs().simd_ge(splat(TINY))
     } else {
         splat(0.0)
     };
-    let e = a.mul_add(b, -p);
-    (e.simd_lt(splat(0.0)).select(next_down(p), p), ok)
+    (p, a.mul_add(b, -p), ok)
 }
 
 /// `round::mul_hi(a, b)` where the mask is set: `-mul_lo(-a, b)`, as the scalar.
@@ -79,13 +83,7 @@ pub fn mul_hi(a: f64x4, b: f64x4) -> (f64x4, f64x4) {
 /// product and one error term (as the scalar `round::mul_lo_hi`).
 #[inline(always)]
 pub fn mul_lo_hi(a: f64x4, b: f64x4) -> (f64x4, f64x4, f64x4) {
-    let p = a * b;
-    let ok = if FUSED {
-        p.is_finite() & p.abs().simd_ge(splat(TINY))
-    } else {
-        splat(0.0)
-    };
-    let e = a.mul_add(b, -p);
+    let (p, e, ok) = product(a, b);
     let zero = splat(0.0);
     let lo = e.simd_lt(zero).select(next_down(p), p);
     let hi = e.simd_gt(zero).select(next_up(p), p);
