@@ -27,9 +27,11 @@
 
 use super::tape::{finish, with_registers, Builder, Instr, Op, Tape, Val};
 use crate::models::formula::branch::Step;
+use arith_core::pack::{Pack, LANES};
 use arith_core::{Known, Range, Real};
-use arith_ia::Interval;
+use arith_ia::{Interval, IntervalX4};
 use rustc_hash::FxHashMap as HashMap;
+use std::any::TypeId;
 use std::sync::Mutex;
 
 /// Tapes shorter than this are evaluated whole: building a tape costs more than a
@@ -415,39 +417,67 @@ impl Tape {
         (t.len() < ins.len()).then_some(t)
     }
 
-    /// Each watched register's bounds over `region`, in `R` and, for an arithmetic
-    /// with symbols, also in intervals over the box of the region's inputs: both
-    /// enclose the register's values there, so their intersection does. Over a long
-    /// oblique region (a culling cell's depth slice) intervals over its box keep the
-    /// far parts of a scene apart that an affine form loses to its quadratic error
+    /// Each watched register's bounds over each of `regions`, in `R` and, for an
+    /// arithmetic with symbols, also in intervals over the box of the region's inputs:
+    /// both enclose the register's values there, so their intersection does. Over a
+    /// long oblique region (a culling cell's depth slice) intervals over its box keep
+    /// the far parts of a scene apart that an affine form loses to its quadratic error
     /// terms, while over the thin regions of the rays' segments the affine forms are
     /// the tighter; measured on scenes of balls and the Shikki scene, the two together
-    /// shorten the tapes more than either.
-    fn region_bounds<R: Range>(&self, spec: &Specialiser, region: &[R; 3]) -> Vec<(f64, f64)> {
-        let mut own = self.watched_bounds(spec, region);
-        if R::INPUTS == usize::MAX {
-            return own;
+    /// shorten the tapes more than either. The boxes go four at a time through
+    /// [`IntervalX4`], each lane bit for bit the scalar interval.
+    fn regions_bounds<R: Range>(
+        &self,
+        spec: &Specialiser,
+        regions: &[[R; 3]],
+    ) -> Vec<Vec<(f64, f64)>> {
+        // Intervals are their own boxes: the packs alone give their bounds.
+        let boxes_only = TypeId::of::<R>() == TypeId::of::<Interval>();
+        let mut out: Vec<Vec<(f64, f64)>> = if boxes_only {
+            vec![vec![(f64::NAN, f64::NAN); self.len()]; regions.len()]
+        } else {
+            regions
+                .iter()
+                .map(|r| self.watched_bounds(spec, r))
+                .collect()
+        };
+        if R::INPUTS == usize::MAX && !boxes_only {
+            return out;
         }
-        let boxed: [Interval; 3] = core::array::from_fn(|k| {
-            let (lo, hi) = region[k].bounds();
-            Interval::from_interval(lo, hi)
-        });
-        for (a, b) in own.iter_mut().zip(self.watched_bounds(spec, &boxed)) {
-            *a = if a.0.is_nan() {
-                b
-            } else if b.0.is_nan() {
-                *a
-            } else {
-                let (lo, hi) = (a.0.max(b.0), a.1.min(b.1));
-                // Empty only through a NaN among the values: decide nothing.
-                if lo <= hi {
-                    (lo, hi)
-                } else {
-                    (f64::NAN, f64::NAN)
+        for (c, chunk) in regions.chunks(LANES).enumerate() {
+            let lane = |l: usize, k: usize| {
+                let (lo, hi) = chunk[l.min(chunk.len() - 1)][k].bounds();
+                Interval::from_interval(lo, hi)
+            };
+            let input = |k: usize| IntervalX4::pack(core::array::from_fn(|l| lane(l, k)));
+            let mut seen = |k: usize, v: &IntervalX4| {
+                for (l, i) in v.unpack().iter().enumerate().take(chunk.len()) {
+                    let a = &mut out[c * LANES + l][k];
+                    let b = bounds_of(i);
+                    *a = if a.0.is_nan() {
+                        b
+                    } else if b.0.is_nan() {
+                        *a
+                    } else {
+                        let (lo, hi) = (a.0.max(b.0), a.1.min(b.1));
+                        // Empty only through a NaN among the values: decide nothing.
+                        if lo <= hi {
+                            (lo, hi)
+                        } else {
+                            (f64::NAN, f64::NAN)
+                        }
+                    };
                 }
             };
+            with_registers(|regs: &mut Vec<Option<IntervalX4>>| {
+                self.run(regs, input(0), input(1), input(2), |k, v| {
+                    if spec.watch[k] {
+                        seen(k, v);
+                    }
+                })
+            });
         }
-        own
+        out
     }
 
     /// Each watched register's bounds over `region`; NaN (decides nothing) for the
@@ -479,10 +509,7 @@ impl Tape {
             return (Vec::new(), vec![None; groups.len()]);
         }
         let ins = self.instructions();
-        let per_region: Vec<Vec<(f64, f64)>> = regions
-            .iter()
-            .map(|r| self.region_bounds(spec, r))
-            .collect();
+        let per_region = self.regions_bounds(spec, regions);
         let mut tapes: Vec<Tape> = Vec::new();
         let mut built: HashMap<Vec<u8>, Option<usize>> = HashMap::default();
         let which = groups
