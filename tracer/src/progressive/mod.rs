@@ -26,6 +26,7 @@ pub use bench::{bench_methods, bench_rounds, bench_table, previewer_method, Benc
 pub use engine::{
     auto_bound, Bound, ChildStart, Engine, Options, Rect, Stats, Step, DEFAULT_BOUND,
 };
+#[cfg(all(feature = "cli", feature = "gpu"))]
 pub(crate) use image::pack;
 pub use image::{write_png, SharedImage};
 pub use plan::{prime_factors_desc, Plan};

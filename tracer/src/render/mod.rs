@@ -311,10 +311,10 @@ pub fn render<A: Arithmetic, S: Shape>(
         + cam.ortho.unwrap_or(0.0) * (1.0 + opts.height as f64 / opts.width as f64);
     let step = precision.at(far).max(scale * SHADING_STEP);
     let pad = (SHADE_BOX + 4.0) * step;
-    let (per_tile, tile_evals) = if opts.specialise && shape.specialises() {
+    let (per_tile, tile_evals, value_evals) = if opts.specialise && shape.specialises() {
         tile_shapes(shape, &culler, (opts.width, opts.height), tile, &tiles, pad)
     } else {
-        (Vec::new(), 0)
+        (Vec::new(), 0, Default::default())
     };
     if let Some(p) = &opts.progress {
         p.start(tiles.len() as u64);
@@ -362,7 +362,7 @@ pub fn render<A: Arithmetic, S: Shape>(
     let mut depth = vec![0.0f32; w * h];
     let mut stats = RenderStats {
         tiles_total: tiles.len() as u64,
-        cell_evals: tile_evals,
+        cell_evals: tile_evals + value_evals.load(std::sync::atomic::Ordering::Relaxed),
         ..Default::default()
     };
     for (&(i0, j0, i1, j1), out) in tiles.iter().zip(outs) {
@@ -610,7 +610,7 @@ fn render_tile<A: Arithmetic, S: Shape>(
             rest = next;
             let slice = tiled.and_then(|m| {
                 let k = m.slice_for(b.lo, b.hi)?;
-                Some((k, m.slice(k)?))
+                Some((k, m.slice(root, k)?))
             });
             let (exact, level): (&S, Option<&S>) = match slice {
                 Some((k, (bx, e))) => {
@@ -680,6 +680,12 @@ fn render_tile<A: Arithmetic, S: Shape>(
             }
         }
     }
+    // The fine depth windows the rays built.
+    for l in &locals {
+        let (evals, ops) = l.take_counts();
+        cs.cells_specialised += evals;
+        cs.cell_ops += ops;
+    }
     st.cell_evals = cs.cells_tested + cs.cells_specialised;
     st.range_ops += cs.cell_ops;
     st.cells_culled = cs.cells_culled;
@@ -713,7 +719,7 @@ fn probe_level<S: Shape>(
         let b = SampleBox::EMPTY.with((p, h));
         let exact = m
             .slice_for(b.lo, b.hi)
-            .and_then(|k| m.slice(k)?.1)
+            .and_then(|k| m.slice(root, k)?.1)
             .unwrap_or(root);
         for v in shade::sample_values(exact, p, h) {
             if v.is_finite() {

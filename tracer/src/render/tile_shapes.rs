@@ -13,10 +13,15 @@
 //!   shape there: every ray of the tile inside the domain, and every cell and segment
 //!   culling tests, lies in that union, so it serves root finding and culling;
 //! - per slice, a **value** shape with the whole shape's value at every point of the
-//!   slice box widened by [`TileShapes::pad`] (the exact rule alone, nothing folded by
+//!   slice box widened by the shading pad (the exact rule alone, nothing folded by
 //!   sign), for shading: a group of shading samples whose box lies inside one of these
-//!   boxes (checked, see [`TileShapes::values_for`]) is shaded from it, as it would be
+//!   boxes (checked, see [`TileShapes::slice_for`]) is shaded from it, as it would be
 //!   from the whole shape.
+//!
+//! Search shapes are built for every node before the tiles are traced; value shapes
+//! only when shading first asks for one (and then its ancestors' for that slice), since
+//! most slices of most tiles hold no hit: on a scene of 10000 balls at 512x512, 197 of
+//! the 1024 leaf slices are shaded from.
 
 use crate::search::cull::Culler;
 use crate::shape::{Aabb, Shape};
@@ -25,7 +30,8 @@ use arith_ia::Interval;
 use glam::DVec3;
 use rayon::prelude::*;
 use std::collections::HashMap;
-use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, OnceLock};
 
 /// Depth slices of a node's region: more make the union of the boxes hug the rays (a
 /// box of a long oblique bundle spans much of the domain) and cost one more range
@@ -37,28 +43,64 @@ pub const TILE_SLICES: usize = 16;
 pub struct TileShapes<S> {
     /// For root finding and culling in the tile.
     pub search: Option<Arc<S>>,
-    /// Per slice: the widened box and its value shape.
-    values: Vec<Option<(Aabb, Option<Arc<S>>)>>,
+    /// The value shapes of the tile's own node (none where the tile has none).
+    values: Option<Arc<ValueNode<S>>>,
 }
 
-impl<S> TileShapes<S> {
+/// A quadtree node's value shapes, each built on first use from its parent's.
+#[derive(Debug)]
+struct ValueNode<S> {
+    parent: Option<Arc<ValueNode<S>>>,
+    /// Per slice: the widened box (`None`: the slice has no points).
+    boxes: Vec<Option<Aabb>>,
+    /// Per slice: the value shape once built (`None` inside: the whole shape's).
+    shapes: Vec<OnceLock<Option<Arc<S>>>>,
+    /// Range evaluations spent on value shapes, shared by the whole tree.
+    evals: Arc<AtomicU64>,
+}
+
+impl<S: Shape> ValueNode<S> {
+    /// Slice `k`'s value shape (`None`: the whole shape `root`'s values).
+    fn shape(&self, root: &S, k: usize) -> Option<&Arc<S>> {
+        self.shapes[k]
+            .get_or_init(|| {
+                let up = self.parent.as_ref().and_then(|p| p.shape(root, k)).cloned();
+                let Some(b) = self.boxes[k] else {
+                    return up;
+                };
+                let base = up.as_deref().unwrap_or(root);
+                if !base.specialises() {
+                    return up;
+                }
+                self.evals.fetch_add(1, Ordering::Relaxed);
+                base.specialise_values(&ranges(&b), f64::INFINITY)
+                    .map(Arc::new)
+                    .or(up)
+            })
+            .as_ref()
+    }
+}
+
+impl<S: Shape> TileShapes<S> {
     /// The slice whose widened box holds the box `[lo, hi]`, if one does.
     pub fn slice_for(&self, lo: DVec3, hi: DVec3) -> Option<usize> {
-        self.values.iter().position(|v| {
-            v.as_ref()
-                .is_some_and(|(b, _)| b.min.cmple(lo).all() && hi.cmple(b.max).all())
+        self.values.as_ref()?.boxes.iter().position(|b| {
+            b.as_ref()
+                .is_some_and(|b| b.min.cmple(lo).all() && hi.cmple(b.max).all())
         })
     }
 
-    /// Slice `k`'s widened box and its shape with the whole shape's values there
-    /// (`None`: the whole shape's).
-    pub fn slice(&self, k: usize) -> Option<(&Aabb, Option<&S>)> {
-        self.values.get(k)?.as_ref().map(|(b, s)| (b, s.as_deref()))
+    /// Slice `k`'s widened box and its shape with the values of the whole shape `root`
+    /// there (`None`: `root`'s own), built on first use.
+    pub fn slice<'a>(&'a self, root: &S, k: usize) -> Option<(&'a Aabb, Option<&'a S>)> {
+        let node = self.values.as_ref()?;
+        let b = node.boxes.get(k)?.as_ref()?;
+        Some((b, node.shape(root, k).map(|s| &**s)))
     }
 
     /// The number of slices.
     pub fn slices(&self) -> usize {
-        self.values.len()
+        self.values.as_ref().map_or(0, |v| v.boxes.len())
     }
 }
 
@@ -70,16 +112,11 @@ pub fn ranges(b: &Aabb) -> [Interval; 3] {
 /// A tile's corner and its shapes.
 type Leaf<S> = ((u32, u32), TileShapes<S>);
 
-/// A quadtree node's shapes while the tree is built: `None` where the whole shape's.
-struct Node<S> {
-    search: Option<Arc<S>>,
-    values: Vec<Option<Arc<S>>>,
-}
-
 /// The shapes of every tile of `tiles` (rectangles of side `tile` on a grid from the
-/// image's origin, as the renderer cuts them), in that order, and the number of range
-/// evaluations spent. `pad` is how far the value boxes reach past the slice boxes: at
-/// least the size of a group of shading samples.
+/// image's origin, as the renderer cuts them), in that order; the number of range
+/// evaluations spent on the search shapes; and the counter of those the value shapes
+/// take as they are built. `pad` is how far the value boxes reach past the slice
+/// boxes: at least the size of a group of shading samples.
 pub fn tile_shapes<S: Shape>(
     shape: &S,
     culler: &Culler,
@@ -87,128 +124,111 @@ pub fn tile_shapes<S: Shape>(
     tile: u32,
     tiles: &[(u32, u32, u32, u32)],
     pad: f64,
-) -> (Vec<TileShapes<S>>, u64) {
-    let root = Node {
-        search: None,
-        values: vec![None; TILE_SLICES],
-    };
+) -> (Vec<TileShapes<S>>, u64, Arc<AtomicU64>) {
     let cols = width.div_ceil(tile);
     let rows = height.div_ceil(tile);
     let mut leaves = Vec::with_capacity(tiles.len());
-    let evals = visit(
+    let counter = Arc::new(AtomicU64::new(0));
+    let tree = Tree {
         shape,
         culler,
         tile,
-        (width, height),
-        (0, 0, cols, rows),
-        &root,
+        size: (width, height),
         pad,
-        &mut leaves,
-    );
+        counter: &counter,
+    };
+    let evals = tree.visit((0, 0, cols, rows), None, None, &mut leaves);
     let mut by_corner: HashMap<(u32, u32), TileShapes<S>> = leaves.into_iter().collect();
     let out = tiles
         .iter()
         .map(|&(i0, j0, _, _)| {
             by_corner.remove(&(i0, j0)).unwrap_or(TileShapes {
                 search: None,
-                values: Vec::new(),
+                values: None,
             })
         })
         .collect();
-    (out, evals)
+    (out, evals, counter)
 }
 
-/// The node of tiles `[c0, c1) x [r0, r1)` (in tile units) from its parent's shapes:
-/// pushes its leaves and gives the range evaluations spent.
-#[allow(clippy::too_many_arguments)]
-fn visit<S: Shape>(
-    shape: &S,
-    culler: &Culler,
+/// What every node of the quadtree shares.
+struct Tree<'a, S> {
+    shape: &'a S,
+    culler: &'a Culler,
     tile: u32,
-    (width, height): (u32, u32),
-    (c0, r0, c1, r1): (u32, u32, u32, u32),
-    parent: &Node<S>,
+    size: (u32, u32),
     pad: f64,
-    leaves: &mut Vec<Leaf<S>>,
-) -> u64 {
-    let rect = (
-        c0 * tile,
-        r0 * tile,
-        (c1 * tile).min(width),
-        (r1 * tile).min(height),
-    );
-    let boxes = culler.slice_boxes(rect, TILE_SLICES);
-    let regions: Vec<[Interval; 3]> = boxes.iter().flatten().map(ranges).collect();
-    let mut evals = 0u64;
-    let base = parent.search.as_deref().unwrap_or(shape);
-    let search = if regions.is_empty() || !base.specialises() {
-        parent.search.clone()
-    } else {
-        evals += regions.len() as u64;
-        base.specialise(&regions)
-            .map(Arc::new)
-            .or_else(|| parent.search.clone())
-    };
-    let widened: Vec<Option<Aabb>> = boxes
-        .iter()
-        .map(|b| b.map(|b| Aabb::new(b.min - DVec3::splat(pad), b.max + DVec3::splat(pad))))
-        .collect();
-    let values: Vec<Option<Arc<S>>> = widened
-        .iter()
-        .zip(&parent.values)
-        .map(|(b, up)| {
-            let b = b.as_ref()?;
-            let base = up.as_deref().unwrap_or(shape);
-            if !base.specialises() {
-                return up.clone();
-            }
-            evals += 1;
-            base.specialise_values(&ranges(b), f64::INFINITY)
+    counter: &'a Arc<AtomicU64>,
+}
+
+impl<S: Shape> Tree<'_, S> {
+    /// The node of tiles `[c0, c1) x [r0, r1)` (in tile units) from its parent's
+    /// shapes: pushes its leaves and gives the range evaluations spent on search shapes.
+    fn visit(
+        &self,
+        (c0, r0, c1, r1): (u32, u32, u32, u32),
+        search: Option<&Arc<S>>,
+        values: Option<&Arc<ValueNode<S>>>,
+        leaves: &mut Vec<Leaf<S>>,
+    ) -> u64 {
+        let (width, height) = self.size;
+        let rect = (
+            c0 * self.tile,
+            r0 * self.tile,
+            (c1 * self.tile).min(width),
+            (r1 * self.tile).min(height),
+        );
+        let boxes = self.culler.slice_boxes(rect, TILE_SLICES);
+        let regions: Vec<[Interval; 3]> = boxes.iter().flatten().map(ranges).collect();
+        let mut evals = 0u64;
+        let base = search.map_or(self.shape, |s| &**s);
+        let search = if regions.is_empty() || !base.specialises() {
+            search.cloned()
+        } else {
+            evals += regions.len() as u64;
+            base.specialise(&regions)
                 .map(Arc::new)
-                .or_else(|| up.clone())
-        })
-        .collect();
-    let node = Node { search, values };
-    if c1 - c0 <= 1 && r1 - r0 <= 1 {
-        leaves.push((
-            (rect.0, rect.1),
-            TileShapes {
-                search: node.search,
-                values: widened
-                    .into_iter()
-                    .zip(node.values)
-                    .map(|(b, s)| Some((b?, s)))
-                    .collect(),
-            },
-        ));
-        return evals;
+                .or_else(|| search.cloned())
+        };
+        let pad = DVec3::splat(self.pad);
+        let boxes: Vec<Option<Aabb>> = boxes
+            .iter()
+            .map(|b| b.map(|b| Aabb::new(b.min - pad, b.max + pad)))
+            .collect();
+        let node = Arc::new(ValueNode {
+            parent: values.cloned(),
+            shapes: boxes.iter().map(|_| OnceLock::new()).collect(),
+            boxes,
+            evals: self.counter.clone(),
+        });
+        if c1 - c0 <= 1 && r1 - r0 <= 1 {
+            leaves.push((
+                (rect.0, rect.1),
+                TileShapes {
+                    search,
+                    values: Some(node),
+                },
+            ));
+            return evals;
+        }
+        let (cm, rm) = (c0 + (c1 - c0).div_ceil(2), r0 + (r1 - r0).div_ceil(2));
+        let quads: Vec<(u32, u32, u32, u32)> = [(c0, cm), (cm, c1)]
+            .into_iter()
+            .flat_map(|(a0, a1)| [(r0, rm), (rm, r1)].map(|(b0, b1)| (a0, b0, a1, b1)))
+            .filter(|&(a0, b0, a1, b1)| a0 < a1 && b0 < b1)
+            .collect();
+        let parts: Vec<(u64, Vec<Leaf<S>>)> = quads
+            .into_par_iter()
+            .map(|q| {
+                let mut mine = Vec::new();
+                let e = self.visit(q, search.as_ref(), Some(&node), &mut mine);
+                (e, mine)
+            })
+            .collect();
+        for (e, mine) in parts {
+            evals += e;
+            leaves.extend(mine);
+        }
+        evals
     }
-    let (cm, rm) = (c0 + (c1 - c0).div_ceil(2), r0 + (r1 - r0).div_ceil(2));
-    let quads: Vec<(u32, u32, u32, u32)> = [(c0, cm), (cm, c1)]
-        .into_iter()
-        .flat_map(|(a0, a1)| [(r0, rm), (rm, r1)].map(|(b0, b1)| (a0, b0, a1, b1)))
-        .filter(|&(a0, b0, a1, b1)| a0 < a1 && b0 < b1)
-        .collect();
-    let parts: Vec<(u64, Vec<Leaf<S>>)> = quads
-        .into_par_iter()
-        .map(|q| {
-            let mut mine = Vec::new();
-            let e = visit(
-                shape,
-                culler,
-                tile,
-                (width, height),
-                q,
-                &node,
-                pad,
-                &mut mine,
-            );
-            (e, mine)
-        })
-        .collect();
-    for (e, mine) in parts {
-        evals += e;
-        leaves.extend(mine);
-    }
-    evals
 }
