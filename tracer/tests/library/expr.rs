@@ -509,7 +509,7 @@ fn syntax_text_is_complete_and_in_the_readme() {
     for w in ["^", "#", "name = expr;", "x  y  z"] {
         assert!(SYNTAX.contains(w), "{w}");
     }
-    let readme = include_str!("../../README.md");
+    let readme = include_str!("../../../README.md");
     assert!(
         readme.contains(SYNTAX),
         "README.md lacks the formula language text"

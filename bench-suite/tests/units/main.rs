@@ -1,0 +1,14 @@
+//! The library's unit tests, one binary linked to the library the command uses, so the
+//! library is not compiled a second time for them.
+
+mod chart;
+mod counter;
+mod formulas;
+mod paper;
+mod progressive;
+mod scaling;
+mod scenes;
+mod table1;
+#[cfg(feature = "gpu")]
+mod table2;
+mod tightness;
