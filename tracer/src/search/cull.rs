@@ -477,6 +477,12 @@ impl Culler {
     ) {
         let (i0, j0, i1, j1) = cell.rect;
         let (w, h) = (i1 - i0, j1 - j0);
+        // The fine windows this cell's narrowing built, counted before it may be dropped.
+        if let Some(w) = &cell.shape {
+            let (evals, ops) = w.take_counts();
+            stats.cells_specialised += evals;
+            stats.cell_ops += ops;
+        }
         let Some(((first, first_end), fit)) = res else {
             stats.cells_culled += 1;
             stats.pixels_culled += (w * h) as u64;
@@ -485,11 +491,6 @@ impl Culler {
         let parent = fit.as_ref().map(|f| (bundle, f));
         let s = (first, cell.s_range.1);
         let mut local = cell.shape;
-        if let Some(w) = &local {
-            let (evals, ops) = w.take_counts();
-            stats.cells_specialised += evals;
-            stats.cell_ops += ops;
-        }
         if specialise {
             // Segments stay a margin inside the region (rays search up to one margin
             // beyond the depths handed out), and windows half a margin inside theirs.

@@ -213,7 +213,9 @@ impl<S: Shape> Windows<S> {
             None => base.cloned(),
         };
         // A slice whose shape is the whole range's is left out: the whole one serves
-        // its segments alike (and packs with them).
+        // its segments alike (and packs with them). With fine windows, every slice is
+        // left out: `Fine::at` serves each segment that fits one.
+        let with_fine = refine.is_some();
         let parent = |g: usize| {
             let (i, j) = spans[g];
             spans
@@ -221,7 +223,13 @@ impl<S: Shape> Windows<S> {
                 .position(|&(p, q)| q - p > j - i && p <= i && j <= q)
         };
         let list = (0..spans.len())
-            .filter(|&g| parent(g).is_none_or(|p| which[p] != which[g]))
+            .filter(|&g| {
+                if with_fine {
+                    g == k
+                } else {
+                    parent(g).is_none_or(|p| which[p] != which[g])
+                }
+            })
             .map(|g| {
                 let (i, j) = spans[g];
                 Window {
