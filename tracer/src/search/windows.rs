@@ -59,9 +59,13 @@ struct Slice<S: ?Sized> {
     /// `None`: the whole shape.
     shape: Option<Arc<S>>,
     /// In heap order from 2: node `n` of level `l` is part `n - 2^l` of `2^l`, its
-    /// parent is `n / 2`. `None`: the whole shape.
-    nodes: Vec<OnceLock<Option<Arc<S>>>>,
+    /// parent is `n / 2`. Allocated when a segment first reaches below the slice (most
+    /// slices never see one).
+    nodes: OnceLock<Box<[Node<S>]>>,
 }
+
+/// A fine window's shape, built on first use (`None`: its parent's).
+type Node<S> = OnceLock<Option<Arc<S>>>;
 
 /// A cell's shape specialised to depth windows (see the module doc): the shape over the
 /// whole range, which the cell's children specialise further, and the narrower ones.
@@ -131,6 +135,12 @@ impl<S: ?Sized> Fine<S> {
             return None;
         }
         let mut shape = slice.shape.as_deref().unwrap_or(root);
+        let count = (1usize << (self.levels + 1)).saturating_sub(2);
+        let nodes = || {
+            slice
+                .nodes
+                .get_or_init(|| (0..count).map(|_| OnceLock::new()).collect())
+        };
         // Down the halves while one holds the segment.
         let mut n = 1usize;
         let (mut p, mut w) = (lo, self.step);
@@ -145,7 +155,7 @@ impl<S: ?Sized> Fine<S> {
                 break;
             }
             let parent = shape;
-            let node = slice.nodes[c - 2].get_or_init(|| match (self.refine)(parent, q, q + w) {
+            let node = nodes()[c - 2].get_or_init(|| match (self.refine)(parent, q, q + w) {
                 Some((s, ops)) => {
                     self.evals.fetch_add(1, Ordering::Relaxed);
                     self.ops.fetch_add(ops as u64, Ordering::Relaxed);
@@ -247,12 +257,9 @@ impl<S: Shape> Windows<S> {
             step: (b - a) / k as f64,
             slack,
             slices: (0..k)
-                .map(|g| {
-                    let nodes = (2..1usize << (levels + 1)).map(|_| OnceLock::new());
-                    Slice {
-                        shape: shape_of(g),
-                        nodes: nodes.collect(),
-                    }
+                .map(|g| Slice {
+                    shape: shape_of(g),
+                    nodes: OnceLock::new(),
                 })
                 .collect(),
             refine,
