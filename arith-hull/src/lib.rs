@@ -122,6 +122,19 @@ impl<const N: usize> Hull<N> {
         }
     }
 
+    /// The pair with its interval part cut to the range both parts agree on: what a
+    /// decided `min` or `max` passes on, so that its interval part stays within plain
+    /// intervals' result, which takes the other operand's bounds where their intervals
+    /// overlap.
+    #[inline(always)]
+    fn narrowed(&self) -> Self {
+        let ((lo, hi), _) = self.ranges();
+        Hull {
+            affine: self.affine,
+            interval: Interval::new(lo, hi),
+        }
+    }
+
     /// The range both parts agree on (see [`meet`]) and the affine part's own.
     #[inline(always)]
     fn ranges(&self) -> ((f64, f64), (f64, f64)) {
@@ -298,13 +311,11 @@ impl<const N: usize> Real for Hull<N> {
             n => match n.checked_neg() {
                 Some(m) => {
                     // The interval part also straight from the intersection, where even
-                    // negative powers keep their sign, and from the interval part itself:
-                    // intervals' `x^-2` is `[1/h^2, inf)` on `[0, h]` but the whole line
-                    // on `[0, 0]`, so a narrower operand can give a wider result.
+                    // negative powers keep their sign (`recip` of the power reaching 0 is
+                    // the whole line).
                     let ((lo, hi), _) = self.ranges();
                     let r = self.powi(m).recip();
                     let i = Interval::new(lo, hi).powi(n);
-                    let i = meet_intervals(i, self.interval.powi(n));
                     Self::new(r.affine, meet_intervals(r.interval, i))
                 }
                 None => Self::new(RevAa::UNBOUNDED, Interval::ENTIRE),
@@ -364,15 +375,16 @@ impl<const N: usize> Real for Hull<N> {
         }
     }
 
-    /// The lower operand when the ranges do not overlap; else `(x+y)/2 - |x-y|/2` in the
-    /// affine part and the interval minimum of the intersections.
+    /// The lower operand (its interval part cut to its range) when the ranges do not
+    /// overlap; else `(x+y)/2 - |x-y|/2` in the affine part and the interval minimum of
+    /// the intersections.
     fn min(&self, other: &Self) -> Self {
         let ((xl, xh), _) = self.ranges();
         let ((yl, yh), _) = other.ranges();
         if xh <= yl {
-            *self
+            self.narrowed()
         } else if yh <= xl {
-            *other
+            other.narrowed()
         } else {
             let d = (*self - *other).abs();
             let affine = ((self.affine + other.affine) - d.affine) * 0.5;
@@ -381,15 +393,16 @@ impl<const N: usize> Real for Hull<N> {
         }
     }
 
-    /// The higher operand when the ranges do not overlap; else `(x+y)/2 + |x-y|/2` in
-    /// the affine part and the interval maximum of the intersections.
+    /// The higher operand (its interval part cut to its range) when the ranges do not
+    /// overlap; else `(x+y)/2 + |x-y|/2` in the affine part and the interval maximum of
+    /// the intersections.
     fn max(&self, other: &Self) -> Self {
         let ((xl, xh), _) = self.ranges();
         let ((yl, yh), _) = other.ranges();
         if xh <= yl {
-            *other
+            other.narrowed()
         } else if yh <= xl {
-            *self
+            self.narrowed()
         } else {
             let d = (*self - *other).abs();
             let affine = ((self.affine + other.affine) + d.affine) * 0.5;

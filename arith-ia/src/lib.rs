@@ -122,9 +122,19 @@ impl Interval {
     }
 
     /// `self * c` for a point `c`.
+    ///
+    /// An infinite `c` (`[inf, inf]` holds no real number: it is a value such as `ln(0)`,
+    /// never a rounded bound of a real) is taken as a number beyond every bound of its
+    /// sign, so `0 * c` is `0`: the limit of `self * [M, M]` as `M` grows, which keeps
+    /// the product within that of any half-line holding `c`.
     fn mul_point(self, c: f64) -> Interval {
         if c.is_nan() {
             return Interval::ENTIRE;
+        }
+        if c.is_infinite() {
+            let f = |x: f64| if x == 0.0 { 0.0 } else { x * c };
+            let (a, b) = (f(self.lo), f(self.hi));
+            return Interval::from_dir(a.min(b), a.max(b));
         }
         if c >= 0.0 {
             Interval::from_dir(mul_lo(self.lo, c), mul_hi(self.hi, c))
@@ -133,10 +143,17 @@ impl Interval {
         }
     }
 
-    /// `self / c` for a point `c`; the whole line when `c == 0`.
+    /// `self / c` for a point `c`; the whole line when `c == 0`. An infinite `c` is taken
+    /// as in [`Interval::mul_point`]: finite bounds go to `0`, infinite ones keep their
+    /// sign times `c`'s.
     fn div_point(self, c: f64) -> Interval {
         if c.is_nan() || c == 0.0 {
             return Interval::ENTIRE;
+        }
+        if c.is_infinite() {
+            let f = |x: f64| if x.is_infinite() { x * c.signum() } else { 0.0 };
+            let (a, b) = (f(self.lo), f(self.hi));
+            return Interval::from_dir(a.min(b), a.max(b));
         }
         if c > 0.0 {
             Interval::from_dir(div_lo(self.lo, c), div_hi(self.hi, c))
@@ -200,7 +217,11 @@ impl Mul for Interval {
     type Output = Interval;
     fn mul(self, rhs: Interval) -> Interval {
         let (a, b) = (self, rhs);
-        // Degenerate (point) factors are common (constants): one product per bound.
+        // Degenerate (point) factors are common (constants): one product per bound, an
+        // infinite point first (see `mul_point`).
+        if a.lo == a.hi && a.lo.is_infinite() {
+            return b.mul_point(a.lo);
+        }
         if b.lo == b.hi {
             return a.mul_point(b.lo);
         }
@@ -345,6 +366,14 @@ impl Real for Interval {
                     // x^-n for even n is positive wherever it is defined (x != 0): at most
                     // the lower bound survives when the power reaches 0.
                     Interval::from_dir(div_lo(1.0, p.hi), div_hi(1.0, p.lo))
+                } else if n & 1 == 0 && p.lo >= 0.0 {
+                    // x^-n of exactly 0 takes no real value; `[MAX, inf]` is the limit of
+                    // `[1/h^n, inf)` as `h` shrinks, so a narrower operand never gives a
+                    // wider result (the whole line here would, against `[0, h]`).
+                    Interval {
+                        lo: f64::MAX,
+                        hi: f64::INFINITY,
+                    }
                 } else {
                     p.recip()
                 }

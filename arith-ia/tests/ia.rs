@@ -90,6 +90,10 @@ fn even_powers_of_ranges_across_zero_start_at_zero() {
     assert_eq!(iv(2.0, 4.0).powi(-2), iv(1.0 / 16.0, 0.25));
     // Negative odd power across 0: the whole line.
     assert_eq!(iv(-2.0, 4.0).powi(-3).bounds(), (-INF, INF));
+    // Negative even power of exactly 0: within every `[1/h^2, inf)` of a range `[0, h]`.
+    assert_eq!(iv(0.0, 0.0).powi(-2), iv(f64::MAX, INF));
+    assert_eq!(iv(-0.0, 0.0).powi(-4), iv(f64::MAX, INF));
+    assert_eq!(iv(0.0, 0.0).powi(-3).bounds(), (-INF, INF));
     // abs
     assert_eq!(iv(-2.0, 3.0).abs(), iv(0.0, 3.0));
     assert_eq!(iv(-5.0, -3.0).abs(), iv(3.0, 5.0));
@@ -327,11 +331,7 @@ proptest! {
             (x.sqr(), sub.sqr()), (x.abs(), sub.abs()), (x.recip(), sub.recip()),
             (x.powi(3), sub.powi(3)), (x.powi(-2), sub.powi(-2)),
         ] {
-            if narrow.is_entire() && sub.contains_zero() {
-                // recip/powi(-n) of exactly 0: undefined everywhere, the whole line by
-                // convention even where the wider range gives [1/h, inf).
-                continue;
-            }
+
             prop_assert!(wide.lo <= narrow.lo && narrow.hi <= wide.hi, "{:?} not within {:?}", narrow, wide);
         }
     }
@@ -386,4 +386,27 @@ fn product_by_signs_is_never_wider_than_the_four_products() {
         );
         Ok(())
     });
+}
+
+/// `[inf, inf]` holds no real number; its products and quotients lie within those of
+/// every half-line that holds it, so a narrower operand never gives a wider result.
+#[test]
+fn infinite_points_stay_within_half_lines() {
+    let ln0 = iv(0.0, 0.0).ln();
+    assert_eq!(ln0, iv(-INF, -INF));
+    for (narrow, wide) in [
+        (ln0 * iv(-1.6, 0.0), iv(-INF, 0.5) * iv(-1.6, 0.0)),
+        (ln0 * iv(0.0, 0.6), iv(-INF, -0.2) * iv(0.0, 0.6)),
+        (ln0 * iv(-0.0, -0.0), iv(-INF, -0.2) * iv(-0.0, -0.0)),
+        (iv(-0.0, -0.0) * ln0, iv(-0.0, -0.0) * iv(-INF, -0.2)),
+        (ln0 / -ln0, iv(-INF, -13.8) / -ln0),
+        (iv(-2.0, 3.0) / -ln0, iv(-2.0, 3.0) / iv(1.0, INF)),
+    ] {
+        assert!(
+            wide.lo <= narrow.lo && narrow.hi <= wide.hi,
+            "{narrow:?} not within {wide:?}"
+        );
+    }
+    assert_eq!(ln0 * iv(-1.6, 0.0), iv(0.0, INF));
+    assert_eq!(iv(-2.0, 3.0) / -ln0, iv(0.0, 0.0));
 }
