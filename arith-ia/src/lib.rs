@@ -126,10 +126,14 @@ impl Interval {
     /// An infinite `c` (`[inf, inf]` holds no real number: it is a value such as `ln(0)`,
     /// never a rounded bound of a real) is taken as a number beyond every bound of its
     /// sign, so `0 * c` is `0`: the limit of `self * [M, M]` as `M` grows, which keeps
-    /// the product within that of any half-line holding `c`.
+    /// the product within that of any half-line holding `c`. An exact `0` gives `[0, 0]`
+    /// whatever `self` is: every number it holds is real, so none is `0 * inf`.
     fn mul_point(self, c: f64) -> Interval {
         if c.is_nan() {
             return Interval::ENTIRE;
+        }
+        if c == 0.0 {
+            return Interval { lo: 0.0, hi: 0.0 };
         }
         if c.is_infinite() {
             let f = |x: f64| if x == 0.0 { 0.0 } else { x * c };

@@ -286,10 +286,11 @@ fn no_nan_with_infinities() {
             assert_no_nan(a.max(&b), &format!("max {a:?} {b:?}"));
         }
     }
-    // The indeterminate forms give the whole line, not a NaN or a guess.
+    // `inf - inf` gives the whole line, not a NaN or a guess; an exact 0 times any set
+    // of reals is exactly 0 (no member of an interval is infinite).
     assert_eq!(iv(-INF, -INF) + iv(INF, INF), Interval::ENTIRE);
-    assert_eq!(iv(0.0, 0.0) * Interval::ENTIRE, Interval::ENTIRE);
-    assert_eq!(iv(INF, INF) * 0.0, Interval::ENTIRE);
+    assert_eq!(iv(0.0, 0.0) * Interval::ENTIRE, iv(0.0, 0.0));
+    assert_eq!(iv(INF, INF) * 0.0, iv(0.0, 0.0));
 }
 
 proptest! {
@@ -408,5 +409,11 @@ fn infinite_points_stay_within_half_lines() {
         );
     }
     assert_eq!(ln0 * iv(-1.6, 0.0), iv(0.0, INF));
+    // An exact 0 times a half-line: 0, within any range around 0 times it.
+    for zero in [iv(0.0, 0.0), iv(-0.0, -0.0)] {
+        assert_eq!(iv(-INF, 0.0) * zero, iv(0.0, 0.0));
+        assert_eq!(zero * Interval::ENTIRE, iv(0.0, 0.0));
+        assert_eq!(iv(-INF, 0.0) * 0.0, iv(0.0, 0.0));
+    }
     assert_eq!(iv(-2.0, 3.0) / -ln0, iv(0.0, 0.0));
 }
