@@ -121,6 +121,13 @@ impl Interval {
         self.lo == f64::NEG_INFINITY && self.hi == f64::INFINITY
     }
 
+    /// The interval between `f(lo)` and `f(hi)`, for a monotone `f` that is exact on
+    /// both ends.
+    fn map_ends(self, f: impl Fn(f64) -> f64) -> Interval {
+        let (a, b) = (f(self.lo), f(self.hi));
+        Interval::from_dir(a.min(b), a.max(b))
+    }
+
     /// `self * c` for a point `c`.
     ///
     /// An infinite `c` (`[inf, inf]` holds no real number: it is a value such as `ln(0)`,
@@ -136,9 +143,7 @@ impl Interval {
             return Interval { lo: 0.0, hi: 0.0 };
         }
         if c.is_infinite() {
-            let f = |x: f64| if x == 0.0 { 0.0 } else { x * c };
-            let (a, b) = (f(self.lo), f(self.hi));
-            return Interval::from_dir(a.min(b), a.max(b));
+            return self.map_ends(|x| if x == 0.0 { 0.0 } else { x * c });
         }
         if c >= 0.0 {
             Interval::from_dir(mul_lo(self.lo, c), mul_hi(self.hi, c))
@@ -155,9 +160,7 @@ impl Interval {
             return Interval::ENTIRE;
         }
         if c.is_infinite() {
-            let f = |x: f64| if x.is_infinite() { x * c.signum() } else { 0.0 };
-            let (a, b) = (f(self.lo), f(self.hi));
-            return Interval::from_dir(a.min(b), a.max(b));
+            return self.map_ends(|x| if x.is_infinite() { x * c.signum() } else { 0.0 });
         }
         if c > 0.0 {
             Interval::from_dir(div_lo(self.lo, c), div_hi(self.hi, c))

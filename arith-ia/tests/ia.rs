@@ -332,7 +332,6 @@ proptest! {
             (x.sqr(), sub.sqr()), (x.abs(), sub.abs()), (x.recip(), sub.recip()),
             (x.powi(3), sub.powi(3)), (x.powi(-2), sub.powi(-2)),
         ] {
-
             prop_assert!(wide.lo <= narrow.lo && narrow.hi <= wide.hi, "{:?} not within {:?}", narrow, wide);
         }
     }
