@@ -8,6 +8,7 @@ pub mod bspline_filter;
 pub mod output;
 pub mod shade;
 pub mod tile_shapes;
+pub mod value_tree;
 
 use crate::arith::ArithKind;
 use crate::camera::Camera;
@@ -27,6 +28,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 use tile_shapes::{tile_shapes, TileShapes};
+use value_tree::ValueTree;
 
 /// Follows a render's progress: told the number of tiles, then each finished tile (from
 /// any of the worker threads), then the end.
@@ -564,12 +566,14 @@ fn render_tile<A: Arithmetic, S: Shape>(
     });
     // Shading, in groups of neighbouring hits (rays come cell by cell): each group's
     // normals from the shape specialised to the box of all their samples, with the
-    // whole shape's values there. A group starts from its tile's value shape for the
-    // slice that holds it, else from its block's (specialised over the box of the
-    // block's samples when first needed). Where the tile has value shapes, a group
-    // first tries the one folded by level (see [`Shape::specialise_values`]): its
-    // samples' values are the whole shape's when they lie within the level, checked
-    // hit by hit, else they are evaluated again on the exact one.
+    // whole shape's values there. Where the tile has value shapes and a level, a group
+    // inside one of its slices first tries the shape folded by level (see
+    // [`Shape::specialise_values`]) of the smallest box of that slice's value tree
+    // ([`ValueTree`]) that holds it: its samples' values are the whole shape's when
+    // they lie within the level, checked hit by hit, else they are evaluated again on
+    // the slice's exact value shape (built then). Without a level a group starts from
+    // the slice's exact shape, and outside every slice from its block's (specialised
+    // over the box of the block's samples when first needed).
     hits.sort_unstable_by_key(|h| h.0);
     let by_values = opts.specialise && root.specialises();
     let sample_at = |&(ray, t): &(usize, f64)| {
@@ -583,10 +587,10 @@ fn render_tile<A: Arithmetic, S: Shape>(
         base.specialise_values(&b.ranges(), within)
     };
     let tiled = mine.filter(|m| by_values && m.slices() > 0);
-    let within = tiled.map_or(f64::INFINITY, |m| {
-        probe_level(m, root, hits.iter().take(LEVEL_PROBES).map(sample_at))
+    let within = tiled.map_or(f64::INFINITY, |_| {
+        probe_level(shape, hits.iter().take(LEVEL_PROBES).map(sample_at))
     });
-    let mut folded: Vec<Option<Option<S>>> =
+    let mut trees: Vec<Option<ValueTree<S>>> =
         (0..tiled.map_or(0, |m| m.slices())).map(|_| None).collect();
     let mut at: Vec<(DVec3, f64)> = Vec::with_capacity(SHADE_GROUP);
     for block in hits.chunks(block_len) {
@@ -608,37 +612,32 @@ fn render_tile<A: Arithmetic, S: Shape>(
             }
             let (group, next) = rest.split_at(at.len());
             rest = next;
-            let slice = tiled.and_then(|m| {
-                let k = m.slice_for(b.lo, b.hi)?;
-                Some((k, m.slice(root, k)?))
-            });
-            let (exact, level): (&S, Option<&S>) = match slice {
-                Some((k, (bx, e))) => {
-                    let e = e.unwrap_or(root);
-                    let level = (within < f64::INFINITY).then(|| {
-                        folded[k]
+            let slice = tiled.and_then(|m| Some((m, m.slice_for(b.lo, b.hi)?)));
+            // The group's exact shape and, where the tile has a level, the one folded
+            // by it; the exact one is then built only when a sample needs it.
+            let (exact, level): (Option<&S>, Option<&S>) = match slice {
+                Some((m, k)) if within < f64::INFINITY => {
+                    let tree = trees[k].get_or_insert_with(|| {
+                        let bx = m.slice_box(k).expect("slice_for gives slices with points");
+                        ValueTree::new(root, *bx, within)
+                    });
+                    (None, Some(tree.at(root, b.lo, b.hi)))
+                }
+                Some((m, k)) => (Some(m.values_in(root, k)), None),
+                None if by_values => (
+                    Some(
+                        block_shape
                             .get_or_insert_with(|| {
-                                st.shade_evals += 1;
-                                st.range_ops += e.tape_len().unwrap_or(0) as u64;
-                                e.specialise_values(&tile_shapes::ranges(bx), within)
+                                let mut bb = SampleBox::EMPTY;
+                                block.iter().for_each(|hit| bb = bb.with(sample_at(hit)));
+                                values_over(root, &bb, f64::INFINITY, &mut st)
                             })
                             .as_ref()
-                            .unwrap_or(e)
-                    });
-                    (e, level)
-                }
-                None if by_values => (
-                    block_shape
-                        .get_or_insert_with(|| {
-                            let mut bb = SampleBox::EMPTY;
-                            block.iter().for_each(|hit| bb = bb.with(sample_at(hit)));
-                            values_over(root, &bb, f64::INFINITY, &mut st)
-                        })
-                        .as_ref()
-                        .unwrap_or(root),
+                            .unwrap_or(root),
+                    ),
                     None,
                 ),
-                None => (root, None),
+                None => (Some(root), None),
             };
             let fast = level.map(|l| (l, values_over(l, &b, within, &mut st)));
             let fast = fast.as_ref().map(|(l, f)| f.as_ref().unwrap_or(l));
@@ -656,6 +655,8 @@ fn render_tile<A: Arithmetic, S: Shape>(
                         if fast.is_some() {
                             st.point_evals += 6;
                         }
+                        let exact = exact
+                            .unwrap_or_else(|| slice.map_or(root, |(m, k)| m.values_in(root, k)));
                         let e = match slow {
                             Some(ref e) => e,
                             None if by_values => {
@@ -679,6 +680,11 @@ fn render_tile<A: Arithmetic, S: Shape>(
                 rgb[k * 3..k * 3 + 3].copy_from_slice(&c);
             }
         }
+    }
+    for t in trees.iter_mut().flatten() {
+        let (folds, ops) = t.take_counts();
+        st.shade_evals += folds;
+        st.range_ops += ops;
     }
     // The fine depth windows the rays built.
     for l in &locals {
@@ -705,23 +711,17 @@ const LEVEL_PROBES: usize = 8;
 const LEVEL_MARGIN: f64 = 4.0;
 
 /// The level for the tile's folded value shapes: [`LEVEL_MARGIN`] times the largest
-/// value at the samples of `probes` (hits, with their sample step), from the tile's
-/// exact value shapes; `inf` (no folding) where they are all 0 or not finite. Any level
+/// value at the samples of `probes` (hits, with their sample step) of `shape`, the
+/// tile's search shape; `inf` (no folding) where they are all 0 or not finite. Any level
 /// is sound (values outside it are evaluated again exactly); one that holds most
-/// samples lets the folded shapes be short.
-fn probe_level<S: Shape>(
-    m: &TileShapes<S>,
-    root: &S,
-    probes: impl Iterator<Item = (DVec3, f64)>,
-) -> f64 {
+/// samples lets the folded shapes be short. The search shape keeps its sign, not its
+/// value, but near a root what it keeps is the primitives that make the surface there,
+/// which is all a level needs, and it is far shorter than the whole shape (building
+/// the tile's exact value shapes to probe them cost a quarter of a 10000-ball render).
+fn probe_level<S: Shape>(shape: &S, probes: impl Iterator<Item = (DVec3, f64)>) -> f64 {
     let mut top = 0.0f64;
     for (p, h) in probes {
-        let b = SampleBox::EMPTY.with((p, h));
-        let exact = m
-            .slice_for(b.lo, b.hi)
-            .and_then(|k| m.slice(root, k)?.1)
-            .unwrap_or(root);
-        for v in shade::sample_values(exact, p, h) {
+        for v in shade::sample_values(shape, p, h) {
             if v.is_finite() {
                 top = top.max(v.abs());
             }

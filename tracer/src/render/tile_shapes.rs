@@ -16,7 +16,8 @@
 //!   slice box widened by the shading pad (the exact rule alone, nothing folded by
 //!   sign), for shading: a group of shading samples whose box lies inside one of these
 //!   boxes (checked, see [`TileShapes::slice_for`]) is shaded from it, as it would be
-//!   from the whole shape.
+//!   from the whole shape, where the shape folded by level does not serve (see
+//!   [`crate::render::value_tree`]).
 //!
 //! Search shapes are built for every node before the tiles are traced; value shapes
 //! only when shading first asks for one (and then its ancestors' for that slice), since
@@ -90,12 +91,23 @@ impl<S: Shape> TileShapes<S> {
         })
     }
 
+    /// Slice `k`'s widened box (`None`: the slice has no points).
+    pub fn slice_box(&self, k: usize) -> Option<&Aabb> {
+        self.values.as_ref()?.boxes.get(k)?.as_ref()
+    }
+
     /// Slice `k`'s widened box and its shape with the values of the whole shape `root`
     /// there (`None`: `root`'s own), built on first use.
     pub fn slice<'a>(&'a self, root: &S, k: usize) -> Option<(&'a Aabb, Option<&'a S>)> {
         let node = self.values.as_ref()?;
         let b = node.boxes.get(k)?.as_ref()?;
         Some((b, node.shape(root, k).map(|s| &**s)))
+    }
+
+    /// Slice `k`'s shape with the values of the whole shape `root` there (`root`
+    /// itself where there is none), built on first use.
+    pub fn values_in<'a>(&'a self, root: &'a S, k: usize) -> &'a S {
+        self.slice(root, k).and_then(|s| s.1).unwrap_or(root)
     }
 
     /// The number of slices.
