@@ -108,8 +108,18 @@ fn signs_differ(t: &Tape, s: &Tape, p: [f64; 3]) -> bool {
 }
 
 fn check_signs(t: &Tape, s: &Tape, b: &[(f64, f64); 3], seed: u64) -> Result<(), String> {
-    if s.len() >= t.len() {
-        return Err(format!("not shorter: {} >= {}", s.len(), t.len()));
+    // Not shorter only with R-functions turned into `min` and `max` (and `a \ b` into
+    // `min(a, -b)`, one more instruction).
+    let count = |t: &Tape, ops: &[char]| t.to_formula().matches(ops).count();
+    let r_functions = |t: &Tape| count(t, &['&', '|', '\\']);
+    if s.len() > t.len() + count(t, &['\\'])
+        || (s.len() >= t.len() && r_functions(s) >= r_functions(t))
+    {
+        return Err(format!(
+            "neither shorter nor with fewer R-functions: {} >= {}",
+            s.len(),
+            t.len()
+        ));
     }
     let mut state = seed | 1;
     let mut rnd = || {
@@ -140,7 +150,8 @@ fn check_signs(t: &Tape, s: &Tape, b: &[(f64, f64); 3], seed: u64) -> Result<(),
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(400))]
 
-    /// In IA, AA, RevAA and Hull: a specialised tape is shorter and nowhere in the region
+    /// In IA, AA, RevAA and Hull: a specialised tape is shorter (or has fewer
+    /// R-functions, turned into `min` and `max`) and nowhere in the region
     /// of the opposite sign.
     #[test]
     fn specialised_tapes_keep_the_sign(f in tree(), b in region(), seed in any::<u64>()) {
@@ -316,6 +327,26 @@ fn dominated_leaves_of_a_max_tree_are_dropped() {
         "{f}"
     );
     assert!(!f.contains("0.6") && !f.contains("x - 3"), "{f}");
+}
+
+/// Over a box where every ball reaches, nothing is decided, but the R-functions, which
+/// only pass signs, become `min` and `max`, with the same sign everywhere.
+#[test]
+fn sign_only_r_functions_become_min_and_max() {
+    let ball = |c: f64| format!("(0.25 - (x - {c})^2 - y^2 - z^2)");
+    let balls: Vec<String> = (0..6).map(|k| ball(k as f64 * 0.1)).collect();
+    let text = format!(
+        "(({} | {}) & ({} | {})) \\ ({} & {})",
+        balls[0], balls[1], balls[2], balls[3], balls[4], balls[5]
+    );
+    let t = parse(&text).unwrap();
+    assert!(t.len() >= MIN_SPECIALISE_LEN);
+    let b = [(-0.6, 0.9), (-0.6, 0.6), (-0.6, 0.6)];
+    let s = specialised::<RevAa<3>>(&t, &b).expect("rebuilt");
+    let f = s.to_formula();
+    assert!(f.contains("max(") && f.contains("min("), "{f}");
+    assert!(!f.contains(['&', '|', '\\']), "{f}");
+    check_signs(&t, &s, &b, 7).unwrap();
 }
 
 #[test]

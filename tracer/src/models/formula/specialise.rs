@@ -16,6 +16,10 @@
 //!   `min(-1, b)` and `-1 & b` become `-1`, and so on. Over the reals
 //!   `sign(a & b) = min(sign a, sign b)` and `sign(a | b) = max(sign a, sign b)`, like
 //!   `min` and `max`, so each rewrite keeps the sign of every consumer up to the result.
+//!   For the same reason a sign-only `a & b` becomes `min(a, b)`, `a | b` `max(a, b)`
+//!   and `a \ b` `min(a, -b)` (everywhere, not only in the region): the same sign at
+//!   every point, and a range as tight as the operands' where the R-function's, over
+//!   operands that overlap, reaches far past both.
 //!
 //! The proofs, the region a cell's tape must cover and why normals still come from the
 //! whole function are in `docs/specialisation.md`. A specialised tape is only valid in
@@ -56,6 +60,13 @@ pub(crate) struct Specialiser {
     chains: Vec<Chain>,
     /// Whether specialising can ever shorten the tape.
     worth: bool,
+    /// Whether some sign-only register is an R-function (`&`, `|`, `\`), which a
+    /// sign-specialised tape turns into `min` or `max`: rebuilt even where nothing is
+    /// decided.
+    r_functions: bool,
+    /// How many of them are `a \ b`, which becomes `min(a, -b)`: a tape may get that
+    /// many instructions longer.
+    subtracts: usize,
     /// Tapes built so far, by decisions (`None`: no shorter than this one).
     cache: Mutex<HashMap<Vec<u8>, Option<Tape>>>,
 }
@@ -158,12 +169,23 @@ impl Specialiser {
             .zip(ins)
             .filter(|(&s, i)| s && !matches!(i.op, Op::Const))
             .count();
+        let r_functions = ins
+            .iter()
+            .zip(&sign_only)
+            .any(|(i, &s)| s && matches!(i.op, Op::Intersect | Op::Union | Op::Subtract));
+        let subtracts = ins
+            .iter()
+            .zip(&sign_only)
+            .filter(|(i, &s)| s && i.op == Op::Subtract)
+            .count();
         Specialiser {
             sign_only,
             level_only,
             watch,
             chains,
             worth: n >= MIN_SPECIALISE_LEN && choices + signs > 0,
+            r_functions,
+            subtracts,
             cache: Mutex::new(HashMap::default()),
         }
     }
@@ -341,10 +363,12 @@ impl Tape {
     }
 
     /// The tape specialised to the union of the regions that the ranges `[x, y, z]` of
-    /// `regions` enclose: shorter, and at every point there of the same sign as this
-    /// tape (see the module doc). Each register's bounds are the hull of its bounds
-    /// over the regions, so slicing a long region gives tighter bounds (and a shorter
-    /// tape) than one range over it. `None` when nothing shortens it.
+    /// `regions` enclose: shorter (or, with its sign-only R-functions turned into `min`
+    /// and `max`, longer by at most one negation per `a \ b`), and at every point there of the same sign as this tape
+    /// (see the module doc). Each register's bounds are the hull of its bounds over the
+    /// regions, so slicing a long region gives tighter bounds (and a shorter tape) than
+    /// one range over it. `None` when nothing shortens it and it has no such
+    /// R-function.
     ///
     /// ```
     /// use arith_core::Range;
@@ -537,7 +561,7 @@ impl Tape {
                     })
                     .collect();
                 let decisions = spec.decide(ins, &bounds, Fold::Sign);
-                if decisions.iter().all(|&d| d == KEEP) {
+                if !spec.r_functions && decisions.iter().all(|&d| d == KEEP) {
                     return None;
                 }
                 if let Some(&k) = built.get(&decisions) {
@@ -555,7 +579,8 @@ impl Tape {
     }
 
     /// The tape rebuilt with `decisions` (from the cache where it was built before),
-    /// `None` when it is no shorter.
+    /// `None` when it is no shorter (or, with R-functions turned into `min` and `max`,
+    /// longer than by the negations `a \ b` needs as `min(a, -b)`).
     fn rebuilt(&self, spec: &Specialiser, ins: &[Instr], decisions: &[u8]) -> Option<Tape> {
         if let Ok(cache) = spec.cache.lock() {
             if let Some(t) = cache.get(decisions) {
@@ -563,7 +588,9 @@ impl Tape {
             }
         }
         let t = rebuild(ins, Some(&spec.sign_only), Fold::Sign, decisions);
-        let t = (t.len() < ins.len()).then_some(t);
+        // (`a \ b` as `min(a, -b)` can take one more instruction.)
+        let kept = t.len() < ins.len() || spec.r_functions && t.len() <= ins.len() + spec.subtracts;
+        let t = kept.then_some(t);
         if let Ok(mut cache) = spec.cache.lock() {
             if cache.len() < CACHE_LIMIT {
                 cache.insert(decisions.to_vec(), t.clone());
@@ -705,6 +732,29 @@ fn reemit(b: &mut Builder, i: &Instr, v: [Val; 3], fold: Option<bool>) -> Val {
             }),
             _ => regs(b, i.op, a, c2),
         },
+        // By sign, an R-function has the sign of `min` or `max` of its operands (see
+        // `docs/specialisation.md`), whose ranges are far tighter.
+        Op::Intersect | Op::Union | Op::Subtract if sign && !level => {
+            let minmax = |b: &mut Builder, op: Op, x: Val, y: Val| match (x, y) {
+                (Val::C(p), Val::C(q)) => Val::C(if op == Op::Min {
+                    Real::min(&p, &q)
+                } else {
+                    Real::max(&p, &q)
+                }),
+                _ => regs(b, op, x, y),
+            };
+            match i.op {
+                Op::Intersect => minmax(b, Op::Min, a, c2),
+                Op::Union => minmax(b, Op::Max, a, c2),
+                _ => {
+                    let nb = match c2 {
+                        Val::C(q) => Val::C(-q),
+                        _ => b.unary(Op::Neg, c2),
+                    };
+                    minmax(b, Op::Min, a, nb)
+                }
+            }
+        }
         Op::Intersect => b.binary(BinOp::Intersect, a, c2),
         Op::Union => b.binary(BinOp::Union, a, c2),
         Op::Subtract => b.binary(BinOp::Subtract, a, c2),
