@@ -169,15 +169,11 @@ impl Specialiser {
             .zip(ins)
             .filter(|(&s, i)| s && !matches!(i.op, Op::Const))
             .count();
-        let r_functions = ins
-            .iter()
-            .zip(&sign_only)
-            .any(|(i, &s)| s && matches!(i.op, Op::Intersect | Op::Union | Op::Subtract));
-        let subtracts = ins
-            .iter()
-            .zip(&sign_only)
-            .filter(|(i, &s)| s && i.op == Op::Subtract)
-            .count();
+        let (mut r_functions, mut subtracts) = (false, 0);
+        for (i, _) in ins.iter().zip(&sign_only).filter(|(_, &s)| s) {
+            r_functions |= matches!(i.op, Op::Intersect | Op::Union | Op::Subtract);
+            subtracts += usize::from(i.op == Op::Subtract);
+        }
         Specialiser {
             sign_only,
             level_only,
@@ -364,11 +360,11 @@ impl Tape {
 
     /// The tape specialised to the union of the regions that the ranges `[x, y, z]` of
     /// `regions` enclose: shorter (or, with its sign-only R-functions turned into `min`
-    /// and `max`, longer by at most one negation per `a \ b`), and at every point there of the same sign as this tape
-    /// (see the module doc). Each register's bounds are the hull of its bounds over the
-    /// regions, so slicing a long region gives tighter bounds (and a shorter tape) than
-    /// one range over it. `None` when nothing shortens it and it has no such
-    /// R-function.
+    /// and `max`, longer by at most one negation per `a \ b`), and at every point there
+    /// of the same sign as this tape (see the module doc). Each register's bounds are
+    /// the hull of its bounds over the regions, so slicing a long region gives tighter
+    /// bounds (and a shorter tape) than one range over it. `None` when nothing shortens
+    /// it and it has no such R-function.
     ///
     /// ```
     /// use arith_core::Range;
@@ -724,37 +720,20 @@ fn reemit(b: &mut Builder, i: &Instr, v: [Val; 3], fold: Option<bool>) -> Val {
             _ => b.unary(Op::Neg, c2),
         },
         _ if subtract && sign && (neg(a) || pos(c2)) => Val::C(-1.0),
-        Op::Min | Op::Max => match (a, c2) {
-            (Val::C(p), Val::C(q)) => Val::C(if i.op == Op::Min {
-                Real::min(&p, &q)
-            } else {
-                Real::max(&p, &q)
-            }),
-            _ => regs(b, i.op, a, c2),
-        },
+        Op::Min | Op::Max => min_max(b, i.op, a, c2),
         // By sign, an R-function has the sign of `min` or `max` of its operands (see
         // `docs/specialisation.md`), whose ranges are far tighter.
-        Op::Intersect | Op::Union | Op::Subtract if sign && !level => {
-            let minmax = |b: &mut Builder, op: Op, x: Val, y: Val| match (x, y) {
-                (Val::C(p), Val::C(q)) => Val::C(if op == Op::Min {
-                    Real::min(&p, &q)
-                } else {
-                    Real::max(&p, &q)
-                }),
-                _ => regs(b, op, x, y),
-            };
-            match i.op {
-                Op::Intersect => minmax(b, Op::Min, a, c2),
-                Op::Union => minmax(b, Op::Max, a, c2),
-                _ => {
-                    let nb = match c2 {
-                        Val::C(q) => Val::C(-q),
-                        _ => b.unary(Op::Neg, c2),
-                    };
-                    minmax(b, Op::Min, a, nb)
-                }
+        Op::Intersect | Op::Union | Op::Subtract if sign && !level => match i.op {
+            Op::Intersect => min_max(b, Op::Min, a, c2),
+            Op::Union => min_max(b, Op::Max, a, c2),
+            _ => {
+                let nb = match c2 {
+                    Val::C(q) => Val::C(-q),
+                    _ => b.unary(Op::Neg, c2),
+                };
+                min_max(b, Op::Min, a, nb)
             }
-        }
+        },
         Op::Intersect => b.binary(BinOp::Intersect, a, c2),
         Op::Union => b.binary(BinOp::Union, a, c2),
         Op::Subtract => b.binary(BinOp::Subtract, a, c2),
@@ -762,5 +741,20 @@ fn reemit(b: &mut Builder, i: &Instr, v: [Val; 3], fold: Option<bool>) -> Val {
         Op::Gt0 => b.step(Step::Pos, a),
         Op::Ge0 => b.step(Step::NonNeg, a),
         Op::Select => b.select(a, c2, e),
+    }
+}
+
+/// `min(x, y)` or `max(x, y)` (`op`), folded where both are constants.
+fn min_max(b: &mut Builder, op: Op, x: Val, y: Val) -> Val {
+    match (x, y) {
+        (Val::C(p), Val::C(q)) => Val::C(if op == Op::Min {
+            Real::min(&p, &q)
+        } else {
+            Real::max(&p, &q)
+        }),
+        _ => {
+            let (x, y) = (b.reg(x), b.reg(y));
+            Val::R(b.emit(Instr::new(op, x, y, 0, 0.0)))
+        }
     }
 }
