@@ -29,6 +29,12 @@ pub trait Shape: Send + Sync {
         false
     }
 
+    /// Whether [`Shape::specialise_values`] can ever return a shape (callers skip the
+    /// range evaluation it needs otherwise). False unless the shape overrides it.
+    fn specialises_values(&self) -> bool {
+        false
+    }
+
     /// The number of instructions one evaluation runs, for a shape that is a tape
     /// (counted in [`crate::render::RenderStats::range_ops`]); `None` otherwise.
     fn tape_len(&self) -> Option<usize> {

@@ -68,6 +68,10 @@ impl Shape for AnyShape {
         matches!(self, AnyShape::Expr(t) if t.specialises())
     }
 
+    fn specialises_values(&self) -> bool {
+        matches!(self, AnyShape::Expr(t) if t.specialises_values())
+    }
+
     fn tape_len(&self) -> Option<usize> {
         match self {
             AnyShape::Expr(t) => Some(t.len()),

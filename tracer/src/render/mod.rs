@@ -575,7 +575,7 @@ fn render_tile<A: Arithmetic, S: Shape>(
     // the slice's exact shape, and outside every slice from its block's (specialised
     // over the box of the block's samples when first needed).
     hits.sort_unstable_by_key(|h| h.0);
-    let by_values = opts.specialise && root.specialises();
+    let by_values = opts.specialise && root.specialises_values();
     let sample_at = |&(ray, t): &(usize, f64)| {
         let RayJob { o, d, .. } = jobs[ray];
         (o + d * t, params.precision.at(t).max(scale * SHADING_STEP))

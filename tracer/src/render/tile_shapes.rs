@@ -70,7 +70,7 @@ impl<S: Shape> ValueNode<S> {
                     return up;
                 };
                 let base = up.as_deref().unwrap_or(root);
-                if !base.specialises() {
+                if !base.specialises_values() {
                     return up;
                 }
                 self.evals.fetch_add(1, Ordering::Relaxed);

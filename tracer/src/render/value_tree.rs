@@ -121,7 +121,7 @@ fn fold<S: Shape>(
     within: f64,
     (folds, ops): (&mut u64, &mut u64),
 ) -> Option<S> {
-    if !base.specialises() {
+    if !base.specialises_values() {
         return None;
     }
     *folds += 1;
@@ -214,5 +214,22 @@ mod tests {
         // Outside the root's box: the base shape.
         let far = DVec3::new(30.0, 0.0, 0.0);
         assert_eq!(tree.at(&t, far, far).len(), t.len());
+    }
+
+    #[test]
+    fn an_r_function_union_is_never_folded() {
+        // The value rules fold only through `min` and `max`: a union of balls by `|`
+        // has none, and each fold would run the whole tape for nothing.
+        let balls: Vec<String> = (0..40)
+            .map(|i| format!("(0.01 - (x - {})^2 - y^2 - z^2)", i as f64 * 0.5))
+            .collect();
+        let t = parse(&balls.join(" | ")).unwrap();
+        assert!(t.specialises() && !t.specialises_values());
+        assert!(row(40).specialises_values());
+        let bx = Aabb::new(DVec3::new(-0.5, -0.5, -0.5), DVec3::new(20.0, 0.5, 0.5));
+        let mut tree = ValueTree::new(&t, bx, 0.02);
+        let (lo, hi) = (DVec3::new(6.95, -0.05, -0.05), DVec3::new(7.05, 0.05, 0.05));
+        assert_eq!(tree.at(&t, lo, hi).len(), t.len());
+        assert_eq!(tree.take_counts(), (0, 0));
     }
 }

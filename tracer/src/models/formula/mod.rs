@@ -105,6 +105,10 @@ impl Shape for Tape {
         Tape::specialises(self)
     }
 
+    fn specialises_values(&self) -> bool {
+        Tape::specialises_values(self)
+    }
+
     fn tape_len(&self) -> Option<usize> {
         Some(self.len())
     }

@@ -60,6 +60,11 @@ pub(crate) struct Specialiser {
     chains: Vec<Chain>,
     /// Whether specialising can ever shorten the tape.
     worth: bool,
+    /// Whether specialising by value can ever shorten it: long enough, with a `min` or
+    /// `max` to decide or fold by level. Without one the value rules can only fold the
+    /// result itself to an infinity, which no shading sample near a root reads (an
+    /// R-function union of balls: every fold would run the whole tape for nothing).
+    values_worth: bool,
     /// Whether some sign-only register is an R-function (`&`, `|`, `\`), which a
     /// sign-specialised tape turns into `min` or `max`: rebuilt even where nothing is
     /// decided.
@@ -180,6 +185,7 @@ impl Specialiser {
             watch,
             chains,
             worth: n >= MIN_SPECIALISE_LEN && choices + signs > 0,
+            values_worth: n >= MIN_SPECIALISE_LEN && choices > 0,
             r_functions,
             subtracts,
             cache: Mutex::new(HashMap::default()),
@@ -358,6 +364,12 @@ impl Tape {
         self.specialiser().worth
     }
 
+    /// Whether [`Tape::specialise_values`] can ever give a shorter tape (long enough,
+    /// and with a `min` or `max`).
+    pub fn specialises_values(&self) -> bool {
+        self.specialiser().values_worth
+    }
+
     /// The tape specialised to the union of the regions that the ranges `[x, y, z]` of
     /// `regions` enclose: shorter (or, with its sign-only R-functions turned into `min`
     /// and `max`, longer by at most one negation per `a \ b`), and at every point there
@@ -418,7 +430,7 @@ impl Tape {
     /// ```
     pub fn specialise_values<R: Range>(&self, region: &[R; 3], within: f64) -> Option<Tape> {
         let spec = self.specialiser();
-        if !spec.worth {
+        if !spec.values_worth {
             return None;
         }
         let ins = self.instructions();
