@@ -34,7 +34,7 @@ done
 for m in $models; do
     for bound in global local; do
         flag=""
-        [ "$bound" = local ] && flag="--local"
+        [ "$bound" = local ] && flag="--bound local"
         if "$TRACER" preview "$m" --headless --width 64 --height 64 $flag \
             --out "$tmp/p.png" > "$tmp/s.txt" 2> "$tmp/e.txt"; then
             sed -E 's/, [0-9.]+ s$//' "$tmp/s.txt" > "$tmp/c.txt"

@@ -7,6 +7,7 @@
 //! Dual-number crates (`num-dual`) are written over `f32`/`f64` components only; this
 //! one needs ranges as components, so it is written here, once.
 
+use crate::branch::{self, Step};
 use crate::{Known, Real};
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
@@ -258,6 +259,33 @@ impl<R: Real> Real for Dual<R> {
             min_side(&self.v, &o.v).map(|a_is_min| !a_is_min),
             self.v.max(&o.v),
         )
+    }
+    fn step(&self, s: Step) -> Self {
+        // The step is constant on either side of its jump: a zero gradient where it is
+        // decided, the whole line where the range may straddle the jump.
+        let v = self.v.step(s);
+        let g = if branch::decided(v.known()) {
+            R::constant(0.0)
+        } else {
+            branch::unknown_value()
+        };
+        Dual {
+            v,
+            g: [g.clone(), g.clone(), g],
+        }
+    }
+    fn select(&self, t: Self, e: Self) -> Self {
+        match branch::side(self.v.known()) {
+            Some(true) => t,
+            Some(false) => e,
+            None => {
+                let g: R = branch::unknown_value();
+                Dual {
+                    v: branch::hull(&t.v, &e.v),
+                    g: [g.clone(), g.clone(), g],
+                }
+            }
+        }
     }
 }
 

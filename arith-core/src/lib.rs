@@ -21,6 +21,8 @@
 //! - [`round`]: rounding helpers (outward rounding with `next_up`/`next_down`, error-free
 //!   transformations), never changing the FPU rounding mode.
 //! - [`rfunc`]: R-function set operations and the paper's blends, written once.
+//! - [`branch`]: comparisons and selections ([`Real::step`], [`Real::select`]), sound
+//!   over ranges and carried through dual numbers.
 //!
 //! ## The soundness contract
 //!
@@ -61,6 +63,7 @@
 
 pub mod affine_round;
 pub mod approx;
+pub mod branch;
 pub mod dual;
 pub mod pack;
 pub mod reduced;

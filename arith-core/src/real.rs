@@ -1,5 +1,6 @@
 //! The two traits every model and arithmetic is written against.
 
+use crate::branch::Step;
 use core::fmt::Debug;
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
@@ -82,6 +83,16 @@ pub trait Real:
     fn from_bounds(lo: f64, hi: f64) -> Option<Self> {
         let _ = (lo, hi);
         None
+    }
+    /// The step `d > 0` ([`Step::Pos`]) or `d >= 0` of `self`: 1 or 0, the range
+    /// `[0, 1]` where a range straddles 0 ([`crate::branch`]).
+    fn step(&self, s: Step) -> Self {
+        crate::branch::step(s, self)
+    }
+    /// `t` where the truth value `self` is 1, `e` where it is 0, the hull of both where
+    /// a range leaves it undecided ([`crate::branch`]).
+    fn select(&self, t: Self, e: Self) -> Self {
+        crate::branch::select(self, t, e)
     }
 }
 

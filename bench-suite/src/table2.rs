@@ -49,7 +49,7 @@ pub fn run(
     let mut rows = Vec::new();
     for &m in models {
         let model = m.model();
-        let program = match tracer::gpu::record::program_of(&model) {
+        let program = match model.tape() {
             Ok(p) => p,
             Err(e) => {
                 eprintln!("skipped {}: {e}", model.name);

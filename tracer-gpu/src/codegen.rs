@@ -1,13 +1,14 @@
-//! WGSL from a [`Program`]: one shader per model and arithmetic. The program becomes
-//! three straight-line functions over the same operations: `model_ia` (intervals: the
+//! WGSL from a tape of the model IR ([`model_ir::Tape`]): one shader per model and
+//! arithmetic. The tape is first lowered ([`lower`]: blends written out, R-functions
+//! fused), then becomes three straight-line functions over the same operations: `model_ia` (intervals: the
 //! IA search and every arithmetic's sign checks at points), `model_af` (the reduced
 //! affine forms of RAA* or RevAA, absent for IA) and `model_pt` (plain `f32`, for
 //! normals only: no bound is taken from it). Constants appear as the bit patterns of
 //! their outward-rounded `f32` bounds, so no WGSL literal parsing can round them.
 
 use crate::convert;
-use crate::program::{Op, Program};
 use crate::GpuArith;
+use model_ir::{Instr, Op, Tape};
 use std::fmt::Write;
 
 const ROUND: &str = include_str!("wgsl/round.wgsl");
@@ -39,9 +40,25 @@ pub fn library(arith: GpuArith) -> String {
     s
 }
 
-/// The whole shader for `program` in `arith`: library, model functions, the search.
-pub fn shader(program: &Program, arith: GpuArith) -> Result<String, String> {
-    program.check()?;
+/// `tape` as the generated code evaluates it: recorded through its own evaluation
+/// ([`Tape::record`]), so that the blends become the operations of
+/// [`model_ir::arith_core::rfunc`] they are made of, and with its R-functions fused
+/// ([`Tape::fuse_rfunctions`]: in `f32` the written-out form cancels).
+pub fn lower(tape: &Tape) -> Tape {
+    Tape::record(|x, y, z| tape.eval(x, y, z)).fuse_rfunctions()
+}
+
+/// The whole shader for `tape` in `arith`: library, model functions, the search.
+pub fn shader(tape: &Tape, arith: GpuArith) -> Result<String, String> {
+    let program = &lower(tape);
+    if let Some(i) = program
+        .instructions()
+        .iter()
+        .find(|i| matches!(i.op, Op::BlendUnion | Op::BlendIntersect))
+    {
+        // `lower` writes blends out; nothing else reaches here.
+        return Err(format!("the GPU has no instruction for '{i}'"));
+    }
     let mut s = library(arith);
     s.push_str(PLAIN);
     s.push_str(&model_fn(program, Flavour::Ia));
@@ -143,9 +160,19 @@ impl Step for f64 {
     }
 }
 
-fn model_fn(p: &Program, fl: Flavour) -> String {
+fn model_fn(p: &Tape, fl: Flavour) -> String {
     let (pre, ty) = (fl.prefix(), fl.ty());
     let mut s = format!("fn model_{pre}(x: {ty}, y: {ty}, z: {ty}) -> {ty} {{\n");
+    for (k, i) in p.instructions().iter().enumerate() {
+        let _ = writeln!(s, "    let r{k} = {};", expression(i, fl));
+    }
+    let _ = writeln!(s, "    return r{};\n}}", p.len() - 1);
+    s
+}
+
+/// The WGSL expression of instruction `i` in the flavour `fl`.
+fn expression(i: &Instr, fl: Flavour) -> String {
+    let pre = fl.prefix();
     let entire = match fl {
         Flavour::Ia => "IA_ENTIRE".to_string(),
         Flavour::Af => "AF_ENTIRE".to_string(),
@@ -153,60 +180,59 @@ fn model_fn(p: &Program, fl: Flavour) -> String {
     };
     // Plain f32 constants: the nearest value (normals only).
     let near = |c: f64| lit(c as f32);
-    for (k, op) in p.ops.iter().enumerate() {
-        let r = |a: u32| format!("r{a}");
-        let un = |name: &str, a: u32| format!("{pre}_{name}({})", r(a));
-        let bin = |name: &str, a: u32, b: u32| format!("{pre}_{name}({}, {})", r(a), r(b));
-        let with_c = |name: &str, a: &str, c: Option<String>| match (fl, c) {
-            (Flavour::Pt, _) => unreachable!(),
-            (_, Some(c)) => format!("{pre}_{name}({a}, {c})"),
-            (_, None) => entire.clone(),
-        };
-        let e = match (*op, fl) {
-            (Op::X, _) => "x".to_string(),
-            (Op::Y, _) => "y".to_string(),
-            (Op::Z, _) => "z".to_string(),
-            (Op::Const(c), Flavour::Pt) => near(c),
-            (Op::Const(c), _) => match bounds(c) {
-                Some(b) => format!("{pre}_iv({b})"),
-                None => entire.clone(),
-            },
-            (Op::AddC(a, c), Flavour::Pt) => format!("{} + {}", r(a), near(c)),
-            (Op::MulC(a, c), Flavour::Pt) => format!("{} * {}", r(a), near(c)),
-            (Op::DivC(a, c), Flavour::Pt) => format!("{} / {}", r(a), near(c)),
-            (Op::RSubC(a, c), Flavour::Pt) => format!("{} - {}", near(c), r(a)),
-            (Op::RDivC(a, c), Flavour::Pt) => format!("{} / {}", near(c), r(a)),
-            (Op::AddC(a, c), _) => with_c("addc", &r(a), bounds(c)),
-            (Op::MulC(a, c), _) => with_c("mulc", &r(a), bounds(c)),
-            (Op::DivC(a, c), _) => with_c("mulc", &r(a), recip_bounds(c)),
-            (Op::RSubC(a, c), _) => with_c("addc", &un("neg", a), bounds(c)),
-            (Op::RDivC(a, c), _) => with_c("mulc", &un("recip", a), bounds(c)),
-            (Op::Neg(a), _) => un("neg", a),
-            (Op::Sqr(a), _) => un("sqr", a),
-            (Op::Powi(a, n), _) => format!("{pre}_powi({}, {n})", r(a)),
-            (Op::Sqrt(a), _) => un("sqrt", a),
-            (Op::Recip(a), _) => un("recip", a),
-            (Op::Exp(a), _) => un("exp", a),
-            (Op::Ln(a), _) => un("ln", a),
-            (Op::Sin(a), _) => un("sin", a),
-            (Op::Cos(a), _) => un("cos", a),
-            (Op::Abs(a), _) => un("abs", a),
-            (Op::Add(a, b), _) => bin("add", a, b),
-            (Op::Sub(a, b), _) => bin("sub", a, b),
-            (Op::Mul(a, b), _) => bin("mul", a, b),
-            (Op::Div(a, b), _) => bin("div", a, b),
-            (Op::Min(a, b), _) => bin("min", a, b),
-            (Op::Max(a, b), _) => bin("max", a, b),
-            (Op::Hypot(a, b), _) => bin("hypot", a, b),
-            (Op::RUnion(a, b), _) => bin("runion", a, b),
-            (Op::RIntersect(a, b), _) => bin("rinter", a, b),
-            (Op::RSubtract(a, b), _) => format!("{pre}_rinter({}, {pre}_neg({}))", r(a), r(b)),
-            (Op::Gt0(a), _) => un("gt0", a),
-            (Op::Ge0(a), _) => un("ge0", a),
-            (Op::Select(c, t, e), _) => format!("{pre}_select({}, {}, {})", r(c), r(t), r(e)),
-        };
-        let _ = writeln!(s, "    let r{k} = {e};");
+    let r = |a: u32| format!("r{a}");
+    let un = |name: &str, a: u32| format!("{pre}_{name}({})", r(a));
+    let bin = |name: &str, a: u32, b: u32| format!("{pre}_{name}({}, {})", r(a), r(b));
+    let with_c = |name: &str, a: &str, c: Option<String>| match c {
+        Some(c) => format!("{pre}_{name}({a}, {c})"),
+        None => entire.clone(),
+    };
+    let (a, b, c) = (i.a, i.b, i.c);
+    match (i.op, fl) {
+        (Op::X, _) => "x".to_string(),
+        (Op::Y, _) => "y".to_string(),
+        (Op::Z, _) => "z".to_string(),
+        (Op::Const, Flavour::Pt) => near(c),
+        (Op::Const, _) => match bounds(c) {
+            Some(b) => format!("{pre}_iv({b})"),
+            None => entire.clone(),
+        },
+        (Op::AddC, Flavour::Pt) => format!("{} + {}", r(a), near(c)),
+        (Op::SubC, Flavour::Pt) => format!("{} + {}", r(a), near(-c)),
+        (Op::MulC, Flavour::Pt) => format!("{} * {}", r(a), near(c)),
+        (Op::DivC, Flavour::Pt) => format!("{} / {}", r(a), near(c)),
+        (Op::RSubC, Flavour::Pt) => format!("{} - {}", near(c), r(a)),
+        (Op::RDivC, Flavour::Pt) => format!("{} / {}", near(c), r(a)),
+        (Op::AddC, _) => with_c("addc", &r(a), bounds(c)),
+        (Op::SubC, _) => with_c("addc", &r(a), bounds(-c)),
+        (Op::MulC, _) => with_c("mulc", &r(a), bounds(c)),
+        (Op::DivC, _) => with_c("mulc", &r(a), recip_bounds(c)),
+        (Op::RSubC, _) => with_c("addc", &un("neg", a), bounds(c)),
+        (Op::RDivC, _) => with_c("mulc", &un("recip", a), bounds(c)),
+        (Op::Neg, _) => un("neg", a),
+        (Op::Sqr, _) => un("sqr", a),
+        (Op::Powi, _) => format!("{pre}_powi({}, {})", r(a), i.n),
+        (Op::Sqrt, _) => un("sqrt", a),
+        (Op::Recip, _) => un("recip", a),
+        (Op::Exp, _) => un("exp", a),
+        (Op::Ln, _) => un("ln", a),
+        (Op::Sin, _) => un("sin", a),
+        (Op::Cos, _) => un("cos", a),
+        (Op::Abs, _) => un("abs", a),
+        (Op::Add, _) => bin("add", a, b),
+        (Op::Sub, _) => bin("sub", a, b),
+        (Op::Mul, _) => bin("mul", a, b),
+        (Op::Div, _) => bin("div", a, b),
+        (Op::Min, _) => bin("min", a, b),
+        (Op::Max, _) => bin("max", a, b),
+        (Op::Hypot, _) => bin("hypot", a, b),
+        (Op::Union, _) => bin("runion", a, b),
+        (Op::Intersect, _) => bin("rinter", a, b),
+        (Op::Subtract, _) => format!("{pre}_rinter({}, {pre}_neg({}))", r(a), r(b)),
+        (Op::Gt0, _) => un("gt0", a),
+        (Op::Ge0, _) => un("ge0", a),
+        (Op::Select, _) => format!("{pre}_select({}, {}, {})", r(a), r(b), r(i.e)),
+        // `shader` refuses tapes with blends: `lower` writes them out.
+        (Op::BlendUnion | Op::BlendIntersect, _) => entire.clone(),
     }
-    let _ = writeln!(s, "    return r{};\n}}", p.ops.len() - 1);
-    s
 }

@@ -4,9 +4,9 @@
 
 use crate::codegen;
 use crate::convert;
-use crate::program::Program;
 use crate::GpuArith;
 use bytemuck::{Pod, Zeroable};
+use model_ir::Tape;
 use std::time::{Duration, Instant};
 use wgpu::util::DeviceExt;
 
@@ -371,9 +371,9 @@ pub struct Prepared {
 }
 
 impl<'g> Tracer<'g> {
-    /// Compiles `program` for `arith` (one shader, two pipelines).
-    pub fn new(gpu: &'g Gpu, program: &Program, arith: GpuArith) -> Result<Tracer<'g>, String> {
-        let src = codegen::shader(program, arith)?;
+    /// Compiles the model `tape` for `arith` (one shader, two pipelines).
+    pub fn new(gpu: &'g Gpu, tape: &Tape, arith: GpuArith) -> Result<Tracer<'g>, String> {
+        let src = codegen::shader(tape, arith)?;
         let module = gpu.module(&src)?;
         let d = &gpu.device;
         let storage = |binding: u32, read_only: bool| wgpu::BindGroupLayoutEntry {

@@ -3,8 +3,9 @@
 //! search every pixel's ray for its first root in `f32` interval arithmetic (IA),
 //! reduced affine arithmetic (RAA*) or revised affine arithmetic (RevAA) on the ray form
 //! (one input symbol), with argument pruning, the coarse-grid cell culling of 5.3.2 as
-//! a compute pass, normals and depths ([`engine`]). The model comes as a [`Program`]
-//! (the tracer records its models into one); the host prepares the rays in `f64`
+//! a compute pass, normals and depths ([`engine`]). The model comes as a tape of the
+//! model IR ([`Tape`]: the tracer's formulas compile into one, its generic models are
+//! recorded into one); the host prepares the rays in `f64`
 //! ([`Frame`]) and the crate rounds them outward to `f32` ([`convert`]).
 //!
 //! # Soundness in `f32` on a GPU
@@ -71,7 +72,8 @@
 //! a pinhole's rays (one eye) and an orthographic view's (parallel rays from the image
 //! plane; a culling cell is then a box of origins with one direction) run alike.
 //!
-//! The R-functions are single operations ([`Op::RUnion`], [`Op::RIntersect`]): written
+//! The R-functions are single operations ([`model_ir::Op::Union`],
+//! [`model_ir::Op::Intersect`], fused by [`codegen::lower`]): written
 //! out, `a + b + sqrt(a^2 + b^2)` with `a` small and `b` far below zero (a union with a
 //! distant part of a scene) cancels to the rounding of `b`'s size, which in `f32` is
 //! larger than any value near the surface, and no pixel could be confirmed. With
@@ -97,10 +99,9 @@
 pub mod codegen;
 pub mod convert;
 pub mod engine;
-pub mod program;
 
 pub use engine::{Bundle, Cells, Frame, Gpu, Output, Prepared, Status, Tracer};
-pub use program::{Op, Program};
+pub use model_ir::Tape;
 
 /// The arithmetics the GPU evaluates in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

@@ -1,18 +1,11 @@
 //! A sphere seen head-on: hits inside the disc, at the right distance.
 mod common;
 
-use tracer_gpu::{Bundle, Frame, GpuArith, Op, Program, Status, Tracer};
+use model_ir::arith_core::Real;
+use tracer_gpu::{Bundle, Frame, GpuArith, Status, Tape, Tracer};
 
-fn sphere() -> Program {
-    let mut p = Program::default();
-    let x = p.push(Op::X);
-    let y = p.push(Op::Y);
-    let z = p.push(Op::Z);
-    let (x2, y2, z2) = (p.push(Op::Sqr(x)), p.push(Op::Sqr(y)), p.push(Op::Sqr(z)));
-    let s = p.push(Op::Add(x2, y2));
-    let s = p.push(Op::Add(s, z2));
-    p.push(Op::RSubC(s, 1.0));
-    p
+fn sphere() -> Tape {
+    Tape::record(|x, y, z| (x.sqr() + y.sqr() + z.sqr()).rsub(1.0))
 }
 
 #[test]

@@ -11,7 +11,7 @@ use arith_core::Real;
 use glam::DVec3;
 use tracer::arith::ArithKind;
 use tracer::camera::Camera;
-use tracer::gpu::record::record;
+use tracer::models::formula::Tape;
 use tracer::render::{render_kind, RenderOptions};
 use tracer::search::ray::clip;
 use tracer::shape::{Aabb, Shape, View};
@@ -39,7 +39,7 @@ fn gpu_hits_every_pixel_the_cpu_proves_and_agrees_on_depth() {
     models.push(tracer::models::Model::formula(BLENDS, None).unwrap());
     for model in &models {
         let name = &model.name;
-        let program = tracer::gpu::record::program_of(model).unwrap();
+        let program = model.tape().unwrap();
         for kind in gpu_kinds() {
             for culling in [false, true] {
                 let mut opts = RenderOptions::new(model, N, N);
@@ -169,7 +169,7 @@ fn check<S: Shape>(
         ..pinhole
     };
     let dom = Aabb::cube(1.5);
-    let program = record(|x, y, z| shape.eval(x, y, z));
+    let program = Tape::record(|x, y, z| shape.eval(x, y, z));
     for (view, kind) in [pinhole, parallel]
         .into_iter()
         .flat_map(|v| gpu_kinds().into_iter().map(move |k| (v, k)))

@@ -4,7 +4,9 @@
 //! - [`arith`]: the one list of arithmetics every command, test and bench iterates over;
 //! - [`shape`] and [`camera`]: the [`shape::Shape`] trait (a function written once,
 //!   generic over [`arith_core::Real`]), boxes, views and rays;
-//! - [`models`]: the model sources (the papers' models, formulas) and their one registry;
+//! - [`models`]: the model sources (the papers' models; the formula, HyperFun and `.vm`
+//!   readers, which compile into tapes of the model IR, [`model_ir`]) and their one
+//!   registry;
 //! - [`search`]: Algorithm 1 ([`search::ray`]), Algorithm 2 ([`search::cull`]), the
 //!   Lipschitz casters ([`search::lipschitz`]) and Lipschitz cone tracing
 //!   ([`search::cone`]);
@@ -68,6 +70,7 @@ macro_rules! reexport_arith_crates {
 }
 arith_list!(@crates [reexport_arith_crates]);
 pub use glam;
+pub use model_ir;
 pub mod camera;
 #[cfg(feature = "cli")]
 pub mod cli;

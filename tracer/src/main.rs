@@ -162,7 +162,7 @@ fn main() -> ExitCode {
         }
         Cmd::Preview(a) => {
             tracer::interrupt::install();
-            tracer::cli::preview::run_preview(a)
+            tracer::cli::run_preview(a)
         }
         Cmd::View(a) => {
             tracer::interrupt::install();

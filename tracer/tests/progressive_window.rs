@@ -8,7 +8,8 @@ use std::time::Duration;
 mod common;
 use common::start_xvfb;
 use std::sync::{Mutex, MutexGuard};
-use tracer::cli::preview::{run_preview, PreviewArgs};
+use tracer::cli::preview::PreviewArgs;
+use tracer::cli::run_preview;
 use tracer::cli::ModelArgs;
 
 /// One test at a time: two Xvfb servers started at once can race for one display.

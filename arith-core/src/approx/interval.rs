@@ -5,11 +5,11 @@
 //! part would overflow, so all arithmetics agree on these ranges. Monotone functions are
 //! bounded at the ends (libm values widened by [`crate::round::LIBM_REL`], exact roots
 //! and powers where representable); `sin` and `cos` add `±1` wherever an extremum may lie
-//! inside (decided conservatively in [`super::trig`]).
+//! inside (decided conservatively in [`super::periodic`]).
 
 use super::bad;
 use super::bounds::{pow_enc, recip_enc, sqrt_enc};
-use super::trig::{may_contain, Trig, TRIG_MAX_ARG};
+use super::periodic::{may_contain, Trig, TRIG_MAX_ARG};
 use crate::round::libm_enclose;
 
 /// Rigorous enclosure of `{x^n : x ∈ [a, b]}` (any integer `n`; `x^0 = 1`). For `n < 0`

@@ -31,6 +31,7 @@
 mod bounds;
 mod chebyshev;
 mod interval;
+mod periodic;
 mod trig;
 
 pub use bounds::sum_sq_floor;

@@ -1,5 +1,5 @@
-//! `sin` and `cos`: their affine approximations and the argument tests they and the
-//! interval ranges share.
+//! `sin` and `cos`: their affine approximations (the argument tests they share with
+//! the interval ranges are in [`super::periodic`]).
 //!
 //! No argument is reduced exactly. For `|x| <= 1e7` the float quotient
 //! `(x - offset)/period` is within `1e-9` of the exact one, so [`may_contain`] decides
@@ -10,9 +10,10 @@
 
 use super::bounds::{bound_piece, g_enc, mid, slope_times_offset};
 use super::interval::{range_cos, range_sin};
+use super::periodic::{may_contain, Trig, TRIG_MAX_ARG};
 use super::{bad, finish, flush, or_range, Approx};
 use crate::affine_round;
-use crate::round::{self, add_hi, add_lo, libm_enclose, sub_hi, sub_lo};
+use crate::round::{self, add_hi, add_lo, sub_hi, sub_lo};
 
 /// `sin x` on `[a, b]`.
 ///
@@ -28,43 +29,7 @@ pub fn cos(a: f64, b: f64) -> Approx {
     trig_approx(Trig::Cos, a, b)
 }
 
-/// Largest argument magnitude for which `sin`/`cos` get more than `[-1, 1]`.
-pub(super) const TRIG_MAX_ARG: f64 = 1.0e7;
-
-/// Safety margin (in periods) of [`may_contain`]; float errors are below `1e-9` there.
-const PERIOD_EPS: f64 = 1.0e-6;
-
-/// Conservatively: whether `[a, b]` (finite, `|a|, |b| <= TRIG_MAX_ARG`) may contain a
-/// point `offset + k*period` (`k` integer). The float quotient `(x - offset)/period` is
-/// within `1e-9` of the exact one at these magnitudes; `PERIOD_EPS` covers that with room.
-pub(super) fn may_contain(a: f64, b: f64, offset: f64, period: f64) -> bool {
-    let u = (a - offset) / period - PERIOD_EPS;
-    let v = (b - offset) / period + PERIOD_EPS;
-    u.ceil() <= v.floor()
-}
-
-#[derive(Clone, Copy, PartialEq)]
-pub(super) enum Trig {
-    Sin,
-    Cos,
-}
-
 impl Trig {
-    pub(super) fn f(self, x: f64) -> (f64, f64) {
-        match self {
-            Trig::Sin => libm_enclose(x.sin()),
-            Trig::Cos => libm_enclose(x.cos()),
-        }
-    }
-    pub(super) fn df(self, x: f64) -> (f64, f64) {
-        match self {
-            Trig::Sin => libm_enclose(x.cos()),
-            Trig::Cos => {
-                let (lo, hi) = libm_enclose(x.sin());
-                (-hi, -lo)
-            }
-        }
-    }
     pub(super) fn range(self, a: f64, b: f64) -> (f64, f64) {
         match self {
             Trig::Sin => range_sin(a, b),

@@ -116,7 +116,7 @@ mod on_gpu {
         let model = model_source(&args.src, args.domain.as_deref().map(|d| ("--domain", d)))?;
         let start_view = args.view.apply(model.view)?;
         crate::camera::Camera::try_new(start_view, w, h).map_err(|e| format!("camera: {e}"))?;
-        let program = crate::gpu::record::program_of(&model)?;
+        let program = model.tape()?;
         let gpu = Gpu::new()?;
         let tracer = Tracer::new(&gpu, &program, arith)?;
         let mut base = RenderOptions::for_view(start_view, model.domain, w, h);

@@ -49,6 +49,17 @@ impl ModelArgs {
     }
 }
 
+/// Runs `tracer preview`: headless ([`preview::run_headless`]) or in a window
+/// ([`window::run_window`]).
+pub fn run_preview(args: &preview::PreviewArgs) -> Result<(), String> {
+    let (engine, model, roi) = preview::prepare(args)?;
+    if args.headless {
+        preview::run_headless(engine, args, roi)
+    } else {
+        window::run_window(engine, model, args, roi)
+    }
+}
+
 /// The model that the flags of `src` and a domain flag (`(flag, value)`: `--domain`,
 /// `--box`) select, from the one registry ([`crate::models::load`]): a built-in name, a
 /// model file or standard input, or a formula (domain `[-2, 2]^3` unless the flag gives

@@ -1,8 +1,7 @@
 //! `tracer preview`: its arguments, the engine options they give, and the headless run
 //! (every level's snapshot, Ctrl-C keeping the image refined so far); the window is in
-//! [`super::window`].
+//! [`super::window`], and [`super::run_preview`] picks one of the two.
 
-use super::window;
 use crate::arith::ArithKind;
 use crate::lipschitz_bound::auto_lipschitz;
 use crate::models::Model;
@@ -244,8 +243,9 @@ pub fn parse_roi(s: &str, w: u32, h: u32) -> Result<Rect, String> {
     Ok(Rect::from_corners((x0, y0), (x1, y1)))
 }
 
-/// Runs `tracer preview`.
-pub fn run_preview(args: &PreviewArgs) -> Result<(), String> {
+/// What `tracer preview` runs on: the engine, the model and the region of interest,
+/// every flag and path checked.
+pub fn prepare(args: &PreviewArgs) -> Result<(Engine<Model>, Model, Option<Rect>), String> {
     let (width, height) = args.image_size()?;
     super::set_threads(args.threads.as_deref())?;
     let mut model =
@@ -259,11 +259,7 @@ pub fn run_preview(args: &PreviewArgs) -> Result<(), String> {
     check_paths(args)?;
     let opts = options_for(args, &model)?;
     let engine = Engine::new(model.clone(), model.domain, model.view, width, height, opts)?;
-    if args.headless {
-        run_headless(engine, args, roi)
-    } else {
-        window::run_window(engine, model, args, roi)
-    }
+    Ok((engine, model, roi))
 }
 
 /// Refines to completion without a window, writing a snapshot at every level transition.

@@ -1,10 +1,8 @@
-//! The GPU renderer (feature `gpu`): a model of the registry turned into a
-//! [`tracer_gpu::Program`] ([`record`]), its rays and culling cells prepared in `f64`
+//! The GPU renderer (feature `gpu`): a model of the registry as a tape of the model IR
+//! ([`Model::tape`], from which [`tracer_gpu`] generates its shaders), its rays and culling cells prepared in `f64`
 //! exactly as the CPU renderer's ([`crate::camera::Camera::ray`],
 //! [`crate::search::ray::clip`]), searched on the device by [`tracer_gpu`] and shaded by
 //! [`crate::render::shade`], giving the same [`RenderResult`] as [`crate::render::render`].
-
-pub mod record;
 
 use crate::arith::ArithKind;
 use crate::camera::Camera;
@@ -13,8 +11,9 @@ use crate::render::shade::{self, Light};
 use crate::render::{RenderOptions, RenderResult, RenderStats};
 use crate::search::ray::clip;
 use glam::DVec3;
+use model_ir::Tape;
 use std::time::Instant;
-use tracer_gpu::{Bundle, Cells, Frame, Gpu, GpuArith, Program, Status, Tracer};
+use tracer_gpu::{Bundle, Cells, Frame, Gpu, GpuArith, Status, Tracer};
 
 pub use tracer_gpu;
 
@@ -145,18 +144,20 @@ pub fn render(
     model: &Model,
     opts: &RenderOptions,
 ) -> Result<RenderResult, String> {
-    let program = record::program_of(model)?;
-    render_program(gpu, kind, &program, opts)
+    let tape = model
+        .tape()
+        .map_err(|e| format!("{e} (the GPU renders tapes)"))?;
+    render_tape(gpu, kind, &tape, opts)
 }
 
-/// [`render`] of a recorded program.
-pub fn render_program(
+/// [`render`] of a model's tape.
+pub fn render_tape(
     gpu: &Gpu,
     kind: ArithKind,
-    program: &Program,
+    tape: &Tape,
     opts: &RenderOptions,
 ) -> Result<RenderResult, String> {
-    let tracer = Tracer::new(gpu, program, gpu_arith(kind)?)?;
+    let tracer = Tracer::new(gpu, tape, gpu_arith(kind)?)?;
     render_with(&tracer, opts)
 }
 

@@ -21,6 +21,7 @@ pub use progressive::GmModel;
 
 use crate::shape::{Aabb, Shape, View};
 use arith_core::Real;
+use model_ir::Tape;
 use std::path::Path;
 
 /// Every kind of shape a model source produces; one `match` per evaluation is negligible
@@ -42,7 +43,7 @@ impl AnyShape {
         match self {
             AnyShape::Paper(m) => m.formula().map(str::to_string),
             AnyShape::Gm(m) => m.formula(),
-            AnyShape::Expr(t) => Some(t.to_formula()),
+            AnyShape::Expr(t) => Some(formula::ToFormula::to_formula(t)),
         }
     }
 }
@@ -130,6 +131,27 @@ pub struct Model {
 }
 
 impl Model {
+    /// The model as a tape of the model IR: a formula's own tape, or the generic code of
+    /// a built-in model recorded ([`Tape::record`]). Errors for models whose code looks
+    /// at the type of its values (procedural noise), which no tape can express.
+    ///
+    /// ```
+    /// use tracer::shape::Shape;
+    /// let m = tracer::models::find("mitchell").unwrap();
+    /// let t = m.tape().unwrap();
+    /// assert_eq!(t.eval(0.3_f64, 0.2, 0.1), m.shape.eval(0.3_f64, 0.2, 0.1));
+    /// ```
+    pub fn tape(&self) -> Result<Tape, String> {
+        match &self.shape {
+            AnyShape::Expr(t) => Ok(t.clone()),
+            s if !s.packs() => Err(format!(
+                "model '{}' uses procedural noise, which a tape cannot express",
+                self.name
+            )),
+            s => Ok(Tape::record(|x, y, z| s.eval(x, y, z))),
+        }
+    }
+
     /// A model of the formula `text` (see [`formula`]) over `domain` (default
     /// `[-2, 2]^3`), viewed by [`crate::camera::frame_box`] of the domain. Errors: the
     /// formula's parse error, or a domain too large to frame.
@@ -457,5 +479,25 @@ mod tests {
         }
         let e = find("nope").unwrap_err();
         assert!(e.contains("mitchell") && e.contains("nope"));
+    }
+
+    /// A model's tape computes what the model computes, bit for bit at points: the
+    /// recording performs the model's own operations.
+    #[test]
+    fn tapes_match_the_models_at_points() {
+        for m in all() {
+            let Ok(t) = m.tape() else {
+                assert!(!m.shape.packs(), "{} failed to record", m.name);
+                continue;
+            };
+            for &(x, y, z) in &[(0.3, -0.2, 0.1), (1.1, 0.7, -0.4), (-0.9, 0.05, 0.6)] {
+                let (a, b) = (t.eval(x, y, z), m.shape.eval(x, y, z));
+                assert!(
+                    a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan()),
+                    "{}: {a} vs {b}",
+                    m.name
+                );
+            }
+        }
     }
 }

@@ -27,7 +27,7 @@
 //! in one pass. A header ([`super::header`], `#` comments) may state the domain and
 //! view; the default domain is fidget's `[-1, 1]^3`.
 
-use super::formula::{BinOp, Binding, Expr, Func, Program, Tape, Var};
+use super::formula::{self, BinOp, Binding, Expr, Func, Program, Tape, Var};
 use std::collections::HashMap;
 
 /// fidget opcodes this reader refuses.
@@ -218,7 +218,7 @@ fn bind(bindings: &mut Vec<Binding>, e: Expr) -> Expr {
 /// Reads and compiles a `.vm` tape (negated, see the module docs).
 pub fn parse(text: &str) -> Result<Tape, VmError> {
     let p = parse_program(text)?;
-    Tape::compile(&p).map_err(|e| VmError {
+    formula::compile(&p).map_err(|e| VmError {
         line: 1,
         column: 1,
         message: format!("internal error: {e}"),

@@ -7,8 +7,8 @@ use arith_core::{Range, Real};
 use proptest::prelude::*;
 use proptest::sample::select;
 use tracer::models::formula::{
-    parse, parse_program, BinOp, Binding, Expr, Func, Op, ParseError, Program, Tape, Var,
-    MAX_TREE_DEPTH, SYNTAX,
+    compile, parse, parse_program, BinOp, Binding, Expr, Func, Op, ParseError, Program, Tape,
+    ToFormula, Var, MAX_TREE_DEPTH, SYNTAX,
 };
 
 /// Bitwise equality that treats every NaN as equal.
@@ -494,7 +494,7 @@ fn constant_zero_divisors_and_ln_domain() {
         bindings: vec![],
         body: Expr::bin(BinOp::Div, Expr::Var(Var::X), Expr::Num(0.0)),
     };
-    assert!(Tape::compile(&p).is_ok());
+    assert!(compile(&p).is_ok());
 }
 
 /// The one text of the language names every function and operator, and is the README's.
@@ -597,7 +597,7 @@ fn deep_or_long_input_is_an_error_not_a_crash() {
     let p = parse_program(&near).unwrap();
     assert_eq!(parse_program(&p.to_string()).unwrap(), p);
     assert_eq!(
-        Tape::compile(&p).unwrap().eval(1.0, 0.0, 0.0),
+        compile(&p).unwrap().eval(1.0, 0.0, 0.0),
         (MAX_TREE_DEPTH - 1) as f64
     );
 }
@@ -906,7 +906,7 @@ proptest! {
             Err(e) => return Err(TestCaseError::fail(format!("{}\n{:?}", e.render(&text), p))),
         };
         prop_assert_eq!(&back, &p, "{}", text);
-        let (t1, t2) = (Tape::compile(&p).unwrap(), parse(&text).unwrap());
+        let (t1, t2) = (compile(&p).unwrap(), parse(&text).unwrap());
         for &(x, y, z) in &POINTS {
             prop_assert!(same(t1.eval(x, y, z), t2.eval(x, y, z)), "{}", text);
         }
@@ -915,7 +915,7 @@ proptest! {
     /// Tape -> text -> tape gives the same values bit for bit.
     #[test]
     fn tape_print_parse_round_trip(p in program()) {
-        let t1 = Tape::compile(&p).unwrap();
+        let t1 = compile(&p).unwrap();
         let text = t1.to_formula();
         let t2 = match parse(&text) {
             Ok(t) => t,

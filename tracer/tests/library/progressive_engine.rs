@@ -1,7 +1,8 @@
 //! Engine tests for the progressive refinement previewer (headless).
 
 use glam::DVec3;
-use tracer::cli::preview::{run_preview, PreviewArgs};
+use tracer::cli::preview::PreviewArgs;
+use tracer::cli::run_preview;
 use tracer::cli::ModelArgs;
 use tracer::models::progressive::GmModel;
 use tracer::models::Model;

@@ -14,7 +14,7 @@ use glam::DVec3;
 use proptest::prelude::*;
 use tracer::arith::ArithKind;
 use tracer::camera::Camera;
-use tracer::models::formula::{parse, Tape, MIN_SPECIALISE_LEN};
+use tracer::models::formula::{parse, Tape, ToFormula, MIN_SPECIALISE_LEN};
 use tracer::models::{Model, PaperModel};
 use tracer::render::{render_kind, RenderOptions};
 use tracer::search::ray::clip;

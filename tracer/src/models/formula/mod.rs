@@ -1,7 +1,7 @@
 //! Formulas from text: `tracer render --expr "FORMULA"`.
 //!
-//! A formula over `x, y, z` is parsed ([`parse`]) into a [`Tape`], a flat list of
-//! instructions that evaluates at points (`f64`) and over every [`arith_core::Range`],
+//! A formula over `x, y, z` is parsed ([`parse`]) into a [`Tape`] of the model IR
+//! (`model-ir`), a flat list of instructions that evaluates at points (`f64`) and over every [`arith_core::Range`],
 //! like the hand-written models (it implements [`Shape`]).
 //!
 //! The language is [`SYNTAX`] (also printed by `tracer render --help`).
@@ -12,10 +12,10 @@
 //! of the tape encloses the formula's real value (see [`Tape`]).
 //!
 //! API: [`parse`] (text to tape), or [`parse_program`] (text to [`Program`], which
-//! prints back as text) then [`Tape::compile`]. Errors: [`ParseError`] with a 0-based
+//! prints back as text) then [`compile`]. Errors: [`ParseError`] with a 0-based
 //! character `pos`, 1-based `line`/`column`, `Display` (`error at column 7: ...`) and
 //! [`ParseError::render`] (the line with a caret under the position). A tape prints as
-//! an instruction listing (`Display`) or back as a formula ([`Tape::to_formula`]).
+//! an instruction listing (`Display`) or back as a formula ([`ToFormula::to_formula`]).
 //!
 //! ```
 //! use tracer::models::formula::parse;
@@ -26,16 +26,15 @@
 //! ```
 
 mod ast;
-mod branch;
+mod compile;
 mod parse;
-mod specialise;
-mod tape;
 
 pub use ast::{BinOp, Binding, Expr, Func, Program, Var};
+pub(crate) use compile::folded_const;
+pub use compile::{compile, CompileError, ToFormula};
+/// The model IR this reader compiles into (`model-ir`), re-exported.
+pub use model_ir::{Instr, Op, Tape, CACHE_LIMIT, EPS, MIN_SPECIALISE_LEN};
 pub use parse::{parse_program, ParseError, MAX_EXPONENT, MAX_NESTING, MAX_TREE_DEPTH};
-pub use specialise::{CACHE_LIMIT, MIN_SPECIALISE_LEN};
-pub(crate) use tape::folded_const;
-pub use tape::{CompileError, Instr, Op, Tape, EPS};
 
 use crate::shape::Shape;
 use arith_core::Real;
@@ -82,7 +81,7 @@ pub fn parse(src: &str) -> Result<Tape, ParseError> {
     let program = parse_program(src)?;
     // The parser only builds trees the compiler accepts; should that ever fail, report
     // it as an error at the start rather than panic.
-    Tape::compile(&program).map_err(|e| ParseError {
+    compile(&program).map_err(|e| ParseError {
         pos: 0,
         message: format!("internal error: {e}"),
         line: 1,

@@ -29,7 +29,7 @@
 //! value is an integer (`2.0`) is that integer.
 
 use super::ast::{BinOp, Binding, Expr, Func, Program, Var};
-use super::tape::folded_const;
+use super::compile::folded_const;
 use std::collections::HashMap;
 use std::fmt;
 

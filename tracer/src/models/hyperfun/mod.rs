@@ -119,5 +119,6 @@ pub fn parse_hyperfun_with(text: &str, opts: &HfOptions) -> Result<Tape, HfError
     };
     let program = compile::Compiler::new(&bodies).model(k, &opts.params)?;
     let p = bodies[k].pos;
-    Tape::compile(&program).map_err(|e| HfError::new(p.line, p.col, format!("internal error: {e}")))
+    crate::models::formula::compile(&program)
+        .map_err(|e| HfError::new(p.line, p.col, format!("internal error: {e}")))
 }

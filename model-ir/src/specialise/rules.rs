@@ -1,79 +1,49 @@
-//! Region specialisation: a tape rewritten for one region of space (a cell of
-//! Algorithm 2 and the rays it hands out) that is shorter and has, at every point of the
-//! region, the same sign as the whole tape, so the same zero set and the same first root
-//! along every ray there.
-//!
-//! One range evaluation over the region ([`Tape::specialise`]) gives the bounds of the
-//! registers that can decide something, and two rules rewrite the tape:
-//!
-//! - **exact**: `min(a, b)` where `a`'s range lies at or below `b`'s is `a` (and `max`
-//!   likewise): the value itself is unchanged;
-//! - **sign only**: a register whose value matters only through its sign (the result,
-//!   and whatever reaches it only through `min`, `max`, the R-functions `&`, `|`, `\`,
-//!   negation, products and quotients by finite nonzero constants, the branches of a
-//!   selection, or is compared with 0) is replaced by the constant `1` (`-1`) where its
-//!   range lies strictly above (below) 0; then `min(1, b)` and `1 & b` become `b`,
-//!   `min(-1, b)` and `-1 & b` become `-1`, and so on. Over the reals
-//!   `sign(a & b) = min(sign a, sign b)` and `sign(a | b) = max(sign a, sign b)`, like
-//!   `min` and `max`, so each rewrite keeps the sign of every consumer up to the result.
-//!   For the same reason a sign-only `a & b` becomes `min(a, b)`, `a | b` `max(a, b)`
-//!   and `a \ b` `min(a, -b)` (everywhere, not only in the region): the same sign at
-//!   every point, and a range as tight as the operands' where the R-function's, over
-//!   operands that overlap, reaches far past both.
-//!
-//! The proofs, the region a cell's tape must cover and why normals still come from the
-//! whole function are in `docs/specialisation.md`. A specialised tape is only valid in
-//! the region it was derived for, and its values there are not those of the function
-//! (only their signs are): it serves root finding and culling, never shading.
-//!
-//! Identical decisions give identical tapes, so each tape keeps the tapes it has built,
-//! keyed by its decisions ([`CACHE_LIMIT`] of them), and neighbouring cells share one.
+//! The rewrite rules of region specialisation (see [`crate::specialise`]): which
+//! registers matter only by sign or by level, the decisions the bounds of a region
+//! allow, and the tape rebuilt with them. Works on instruction slices; the cache and the
+//! public API are in [`crate::specialise`].
 
-use super::tape::{finish, with_registers, Builder, Instr, Op, Tape, Val};
-use crate::models::formula::branch::Step;
+use crate::builder::{finish, Builder, Val};
+use crate::eval::{run, with_registers};
+use crate::fold::Bin;
+use crate::instr::{Instr, Op};
+use arith_core::branch::Step;
 use arith_core::pack::{Pack, LANES};
 use arith_core::{Known, Range, Real};
 use arith_ia::{Interval, IntervalX4};
-use rustc_hash::FxHashMap as HashMap;
 use std::any::TypeId;
-use std::sync::Mutex;
 
 /// Tapes shorter than this are evaluated whole: building a tape costs more than a
 /// short tape's evaluations save.
 pub const MIN_SPECIALISE_LEN: usize = 24;
 
-/// Specialised tapes a tape keeps for reuse.
-pub const CACHE_LIMIT: usize = 512;
-
 /// What a tape's specialisation needs, computed once per tape.
 #[derive(Debug)]
 pub(crate) struct Specialiser {
     /// Per register: only its sign matters.
-    sign_only: Vec<bool>,
+    pub(crate) sign_only: Vec<bool>,
     /// Per register: it reaches the result only through `min`, `max` and negation
     /// (a subset of the sign-only ones), so it may be folded by level.
-    level_only: Vec<bool>,
+    pub(crate) level_only: Vec<bool>,
     /// Per register: its bounds can decide something.
-    watch: Vec<bool>,
+    pub(crate) watch: Vec<bool>,
     /// The tape's chains of `min` (`max`) whose inner nodes have no other use: n-ary
     /// minima (maxima) of their leaves.
     chains: Vec<Chain>,
     /// Whether specialising can ever shorten the tape.
-    worth: bool,
+    pub(crate) worth: bool,
     /// Whether specialising by value can ever shorten it: long enough, with a `min` or
     /// `max` to decide or fold by level. Without one the value rules can only fold the
     /// result itself to an infinity, which no shading sample near a root reads (an
     /// R-function union of balls: every fold would run the whole tape for nothing).
-    values_worth: bool,
+    pub(crate) values_worth: bool,
     /// Whether some sign-only register is an R-function (`&`, `|`, `\`), which a
     /// sign-specialised tape turns into `min` or `max`: rebuilt even where nothing is
     /// decided.
-    r_functions: bool,
+    pub(crate) r_functions: bool,
     /// How many of them are `a \ b`, which becomes `min(a, -b)`: a tape may get that
     /// many instructions longer.
-    subtracts: usize,
-    /// Tapes built so far, by decisions (`None`: no shorter than this one).
-    cache: Mutex<HashMap<Vec<u8>, Option<Tape>>>,
+    pub(crate) subtracts: usize,
 }
 
 /// An n-ary `min` or `max` spread over a tree of binary ones (see [`Specialiser`]).
@@ -101,18 +71,18 @@ enum Kid {
 
 /// What the rewrite may fold besides the exact rule.
 #[derive(Clone, Copy, Debug, PartialEq)]
-enum Fold {
+pub(crate) enum Fold {
     /// Nothing: the value is kept everywhere.
     Exact,
     /// Sign-only registers of one sign, to `1` or `-1`: the sign is kept.
     Sign,
     /// Level-only registers beyond `(-d, d)`, to `inf` or `-inf`: the value is kept
-    /// wherever it lies in `(-d, d)` (see [`Tape::specialise_values`]).
+    /// wherever it lies in `(-d, d)` (see [`crate::Tape::specialise_values`]).
     Level(f64),
 }
 
 /// A register kept as it is.
-const KEEP: u8 = 0;
+pub(crate) const KEEP: u8 = 0;
 /// Strictly positive over the region (sign only): the constant 1.
 const POS: u8 = 1;
 /// Strictly negative over the region (sign only): the constant -1.
@@ -135,7 +105,7 @@ fn passes_sign(i: &Instr, k: usize) -> bool {
 }
 
 impl Specialiser {
-    fn new(ins: &[Instr]) -> Self {
+    pub(crate) fn new(ins: &[Instr]) -> Self {
         let n = ins.len();
         let mut sign_only = vec![false; n];
         let mut level_only = vec![false; n];
@@ -188,13 +158,12 @@ impl Specialiser {
             values_worth: n >= MIN_SPECIALISE_LEN && choices > 0,
             r_functions,
             subtracts,
-            cache: Mutex::new(HashMap::default()),
         }
     }
 
     /// The decision for each register, from the bounds of the watched ones, with the
     /// exact rule and the folding `fold`.
-    fn decide(&self, ins: &[Instr], bounds: &[(f64, f64)], fold: Fold) -> Vec<u8> {
+    pub(crate) fn decide(&self, ins: &[Instr], bounds: &[(f64, f64)], fold: Fold) -> Vec<u8> {
         let mut decisions: Vec<u8> = ins
             .iter()
             .enumerate()
@@ -230,6 +199,89 @@ impl Specialiser {
             c.drop_dominated(bounds, &mut decisions, &mut gone);
         }
         decisions
+    }
+
+    /// Each watched register's bounds over each of `regions`, in `R` and, for an
+    /// arithmetic with symbols, also in intervals over the box of the region's inputs:
+    /// both enclose the register's values there, so their intersection does. Over a
+    /// long oblique region (a culling cell's depth slice) intervals over its box keep
+    /// the far parts of a scene apart that an affine form loses to its quadratic error
+    /// terms, while over the thin regions of the rays' segments the affine forms are
+    /// the tighter; measured on scenes of balls and the Shikki scene, the two together
+    /// shorten the tapes more than either. The boxes go four at a time through
+    /// [`IntervalX4`], each lane bit for bit the scalar interval.
+    pub(crate) fn regions_bounds<R: Range>(
+        &self,
+        ins: &[Instr],
+        regions: &[[R; 3]],
+    ) -> Vec<Vec<(f64, f64)>> {
+        let spec = self;
+        // Intervals are their own boxes: the packs alone give their bounds.
+        let boxes_only = TypeId::of::<R>() == TypeId::of::<Interval>();
+        let mut out: Vec<Vec<(f64, f64)>> = if boxes_only {
+            vec![vec![(f64::NAN, f64::NAN); ins.len()]; regions.len()]
+        } else {
+            regions
+                .iter()
+                .map(|r| self.watched_bounds(ins, r))
+                .collect()
+        };
+        if R::INPUTS == usize::MAX && !boxes_only {
+            return out;
+        }
+        for (c, chunk) in regions.chunks(LANES).enumerate() {
+            let lane = |l: usize, k: usize| {
+                let (lo, hi) = chunk[l.min(chunk.len() - 1)][k].bounds();
+                Interval::from_interval(lo, hi)
+            };
+            let input = |k: usize| IntervalX4::pack(core::array::from_fn(|l| lane(l, k)));
+            let mut seen = |k: usize, v: &IntervalX4| {
+                for (l, i) in v.unpack().iter().enumerate().take(chunk.len()) {
+                    let a = &mut out[c * LANES + l][k];
+                    let b = bounds_of(i);
+                    *a = if a.0.is_nan() {
+                        b
+                    } else if b.0.is_nan() {
+                        *a
+                    } else {
+                        let (lo, hi) = (a.0.max(b.0), a.1.min(b.1));
+                        // Empty only through a NaN among the values: decide nothing.
+                        if lo <= hi {
+                            (lo, hi)
+                        } else {
+                            (f64::NAN, f64::NAN)
+                        }
+                    };
+                }
+            };
+            with_registers(|regs: &mut Vec<Option<IntervalX4>>| {
+                run(ins, regs, input(0), input(1), input(2), |k, v| {
+                    if spec.watch[k] {
+                        seen(k, v);
+                    }
+                })
+            });
+        }
+        out
+    }
+
+    /// Each watched register's bounds over `region`; NaN (decides nothing) for the
+    /// others.
+    pub(crate) fn watched_bounds<R: Range>(
+        &self,
+        ins: &[Instr],
+        [x, y, z]: &[R; 3],
+    ) -> Vec<(f64, f64)> {
+        let spec = self;
+        let mut bounds = vec![(f64::NAN, f64::NAN); ins.len()];
+        with_registers(|regs: &mut Vec<Option<R>>| {
+            run(ins, regs, x.clone(), y.clone(), z.clone(), |k, v| {
+                if spec.watch[k] {
+                    bounds[k] = bounds_of(v);
+                }
+            })
+        });
+        bounds
     }
 }
 
@@ -344,7 +396,7 @@ impl Chain {
 }
 
 /// Bounds of a value as [`Real::known`] tells them (NaN where unknown: decides nothing).
-fn bounds_of<R: Real>(v: &R) -> (f64, f64) {
+pub(crate) fn bounds_of<R: Real>(v: &R) -> (f64, f64) {
     match v.known() {
         Known::Range(lo, hi) => (lo, hi),
         Known::Point(p) => (p, p),
@@ -352,265 +404,14 @@ fn bounds_of<R: Real>(v: &R) -> (f64, f64) {
     }
 }
 
-impl Tape {
-    fn specialiser(&self) -> &Specialiser {
-        self.spec
-            .get_or_init(|| Specialiser::new(self.instructions()))
-    }
-
-    /// Whether [`Tape::specialise`] can ever give a shorter tape (long enough, and with
-    /// a `min`, `max` or a sign-only register to decide).
-    pub fn specialises(&self) -> bool {
-        self.specialiser().worth
-    }
-
-    /// Whether [`Tape::specialise_values`] can ever give a shorter tape (long enough,
-    /// and with a `min` or `max`).
-    pub fn specialises_values(&self) -> bool {
-        self.specialiser().values_worth
-    }
-
-    /// The tape specialised to the union of the regions that the ranges `[x, y, z]` of
-    /// `regions` enclose: shorter (or, with its sign-only R-functions turned into `min`
-    /// and `max`, longer by at most one negation per `a \ b`), and at every point there
-    /// of the same sign as this tape (see the module doc). Each register's bounds are
-    /// the hull of its bounds over the regions, so slicing a long region gives tighter
-    /// bounds (and a shorter tape) than one range over it. `None` when nothing shortens
-    /// it and it has no such R-function.
-    ///
-    /// ```
-    /// use arith_core::Range;
-    /// use arith_ia::Interval;
-    /// use tracer::models::formula::parse;
-    /// // Four balls in a row; only the one at the origin reaches the box around it.
-    /// let t = parse("ball = 0.25 - x^2 - y^2 - z^2;
-    ///                max(max(ball, 0.25 - (x-2)^2 - y^2 - z^2),
-    ///                    max(0.25 - (x-4)^2 - y^2 - z^2, 0.25 - (x-6)^2 - y^2 - z^2))").unwrap();
-    /// let i = |lo, hi| Interval::from_interval(lo, hi);
-    /// let s = t.specialise(&[[i(-0.6, 0.6), i(-0.6, 0.6), i(-0.6, 0.6)]]).unwrap();
-    /// assert_eq!(s.to_formula(), "0.25 - x^2 - y^2 - z^2");
-    /// ```
-    pub fn specialise<R: Range>(&self, regions: &[[R; 3]]) -> Option<Tape> {
-        let (mut tapes, which) = self.specialise_groups(regions, &[(0, regions.len())]);
-        which[0].map(|k| tapes.swap_remove(k))
-    }
-
-    /// A tape with the same value as this one, for shading, at every point of the
-    /// region that `region` encloses where its own value lies strictly inside
-    /// `(-within, within)` (everywhere for `within = inf`): the exact rule applied
-    /// (decided `min`/`max`, dominated operands of n-ary ones dropped), and registers
-    /// that reach the result only through `min`, `max` and negation folded to `inf`
-    /// (`-inf`) where they lie above `within` (below `-within`). `None` when nothing
-    /// shortens it.
-    ///
-    /// Why the folding keeps those values: the clamp `k(t) = min(max(t, -d), d)`
-    /// commutes with `min`, `max` and negation, and maps a folded register and its
-    /// constant alike, so `k(g) = k(f)` at every point of the region; where
-    /// `|g| < d`, `g = k(g) = k(f)`, which only `f = g` gives. `min` and `max` select one
-    /// operand, so this holds for the rounded values too, the bounds enclosing the
-    /// rounded values of the folded registers. Applied again to the tape it gives (same
-    /// `within`, a region inside this one), it keeps the same property.
-    ///
-    /// ```
-    /// use arith_core::Range;
-    /// use arith_ia::Interval;
-    /// use tracer::models::formula::parse;
-    /// // A ball at the origin and three a little way off.
-    /// let t = parse("ball = 0.25 - x^2 - y^2 - z^2;
-    ///                max(max(ball, 0.25 - (x-2)^2 - y^2 - z^2),
-    ///                    max(0.25 - x^2 - (y-2)^2 - z^2, 0.25 - x^2 - y^2 - (z-2)^2))").unwrap();
-    /// let i = |lo, hi| Interval::from_interval(lo, hi);
-    /// let around = [i(-1.0, 1.0), i(-1.0, 1.0), i(-1.0, 1.0)];
-    /// // Over the box the balls' ranges overlap: the exact rules keep them all...
-    /// assert!(t.specialise_values(&around, f64::INFINITY).is_none());
-    /// // ... while the others lie below -0.75 there, so within 0.5 of 0 the value is
-    /// // the first ball's.
-    /// let s = t.specialise_values(&around, 0.5).unwrap();
-    /// assert_eq!(s.to_formula(), "0.25 - x^2 - y^2 - z^2");
-    /// ```
-    pub fn specialise_values<R: Range>(&self, region: &[R; 3], within: f64) -> Option<Tape> {
-        let spec = self.specialiser();
-        if !spec.values_worth {
-            return None;
-        }
-        let ins = self.instructions();
-        let bounds = self.watched_bounds(spec, region);
-        let fold = if within < f64::INFINITY {
-            Fold::Level(within)
-        } else {
-            Fold::Exact
-        };
-        let decisions = spec.decide(ins, &bounds, fold);
-        if decisions.iter().all(|&d| d == KEEP) {
-            return None;
-        }
-        let folded = (fold != Fold::Exact).then_some(&spec.level_only[..]);
-        let t = rebuild(ins, folded, fold, &decisions);
-        (t.len() < ins.len()).then_some(t)
-    }
-
-    /// Each watched register's bounds over each of `regions`, in `R` and, for an
-    /// arithmetic with symbols, also in intervals over the box of the region's inputs:
-    /// both enclose the register's values there, so their intersection does. Over a
-    /// long oblique region (a culling cell's depth slice) intervals over its box keep
-    /// the far parts of a scene apart that an affine form loses to its quadratic error
-    /// terms, while over the thin regions of the rays' segments the affine forms are
-    /// the tighter; measured on scenes of balls and the Shikki scene, the two together
-    /// shorten the tapes more than either. The boxes go four at a time through
-    /// [`IntervalX4`], each lane bit for bit the scalar interval.
-    fn regions_bounds<R: Range>(
-        &self,
-        spec: &Specialiser,
-        regions: &[[R; 3]],
-    ) -> Vec<Vec<(f64, f64)>> {
-        // Intervals are their own boxes: the packs alone give their bounds.
-        let boxes_only = TypeId::of::<R>() == TypeId::of::<Interval>();
-        let mut out: Vec<Vec<(f64, f64)>> = if boxes_only {
-            vec![vec![(f64::NAN, f64::NAN); self.len()]; regions.len()]
-        } else {
-            regions
-                .iter()
-                .map(|r| self.watched_bounds(spec, r))
-                .collect()
-        };
-        if R::INPUTS == usize::MAX && !boxes_only {
-            return out;
-        }
-        for (c, chunk) in regions.chunks(LANES).enumerate() {
-            let lane = |l: usize, k: usize| {
-                let (lo, hi) = chunk[l.min(chunk.len() - 1)][k].bounds();
-                Interval::from_interval(lo, hi)
-            };
-            let input = |k: usize| IntervalX4::pack(core::array::from_fn(|l| lane(l, k)));
-            let mut seen = |k: usize, v: &IntervalX4| {
-                for (l, i) in v.unpack().iter().enumerate().take(chunk.len()) {
-                    let a = &mut out[c * LANES + l][k];
-                    let b = bounds_of(i);
-                    *a = if a.0.is_nan() {
-                        b
-                    } else if b.0.is_nan() {
-                        *a
-                    } else {
-                        let (lo, hi) = (a.0.max(b.0), a.1.min(b.1));
-                        // Empty only through a NaN among the values: decide nothing.
-                        if lo <= hi {
-                            (lo, hi)
-                        } else {
-                            (f64::NAN, f64::NAN)
-                        }
-                    };
-                }
-            };
-            with_registers(|regs: &mut Vec<Option<IntervalX4>>| {
-                self.run(regs, input(0), input(1), input(2), |k, v| {
-                    if spec.watch[k] {
-                        seen(k, v);
-                    }
-                })
-            });
-        }
-        out
-    }
-
-    /// Each watched register's bounds over `region`; NaN (decides nothing) for the
-    /// others.
-    fn watched_bounds<R: Range>(&self, spec: &Specialiser, [x, y, z]: &[R; 3]) -> Vec<(f64, f64)> {
-        let mut bounds = vec![(f64::NAN, f64::NAN); self.len()];
-        with_registers(|regs: &mut Vec<Option<R>>| {
-            self.run(regs, x.clone(), y.clone(), z.clone(), |k, v| {
-                if spec.watch[k] {
-                    bounds[k] = bounds_of(v);
-                }
-            })
-        });
-        bounds
-    }
-
-    /// [`Tape::specialise`] for several unions of regions at once: `groups[g] = (i, j)`
-    /// is the union of `regions[i..j]`. Each region is evaluated once, whatever the
-    /// number of groups it is in. Gives the distinct tapes built and, per group, the
-    /// index of its tape (`None`: nothing shortens it); groups with the same decisions
-    /// share one tape.
-    pub fn specialise_groups<R: Range>(
-        &self,
-        regions: &[[R; 3]],
-        groups: &[(usize, usize)],
-    ) -> (Vec<Tape>, Vec<Option<usize>>) {
-        let spec = self.specialiser();
-        if !spec.worth || regions.is_empty() {
-            return (Vec::new(), vec![None; groups.len()]);
-        }
-        let ins = self.instructions();
-        let per_region = self.regions_bounds(spec, regions);
-        let mut tapes: Vec<Tape> = Vec::new();
-        let mut built: HashMap<Vec<u8>, Option<usize>> = HashMap::default();
-        let which = groups
-            .iter()
-            .map(|&(i, j)| {
-                let rs = per_region.get(i..j).filter(|r| !r.is_empty())?;
-                // The hull over the group's regions; NaN stays (it decides nothing).
-                let bounds: Vec<(f64, f64)> = (0..ins.len())
-                    .map(|k| {
-                        rs.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |b, r| {
-                            let (lo, hi) = r[k];
-                            (
-                                if lo.is_nan() || b.0.is_nan() {
-                                    f64::NAN
-                                } else {
-                                    b.0.min(lo)
-                                },
-                                if hi.is_nan() || b.1.is_nan() {
-                                    f64::NAN
-                                } else {
-                                    b.1.max(hi)
-                                },
-                            )
-                        })
-                    })
-                    .collect();
-                let decisions = spec.decide(ins, &bounds, Fold::Sign);
-                if !spec.r_functions && decisions.iter().all(|&d| d == KEEP) {
-                    return None;
-                }
-                if let Some(&k) = built.get(&decisions) {
-                    return k;
-                }
-                let k = self.rebuilt(spec, ins, &decisions).map(|t| {
-                    tapes.push(t);
-                    tapes.len() - 1
-                });
-                built.insert(decisions, k);
-                k
-            })
-            .collect();
-        (tapes, which)
-    }
-
-    /// The tape rebuilt with `decisions` (from the cache where it was built before),
-    /// `None` when it is no shorter (or, with R-functions turned into `min` and `max`,
-    /// longer than by the negations `a \ b` needs as `min(a, -b)`).
-    fn rebuilt(&self, spec: &Specialiser, ins: &[Instr], decisions: &[u8]) -> Option<Tape> {
-        if let Ok(cache) = spec.cache.lock() {
-            if let Some(t) = cache.get(decisions) {
-                return t.clone();
-            }
-        }
-        let t = rebuild(ins, Some(&spec.sign_only), Fold::Sign, decisions);
-        // (`a \ b` as `min(a, -b)` can take one more instruction.)
-        let kept = t.len() < ins.len() || spec.r_functions && t.len() <= ins.len() + spec.subtracts;
-        let t = kept.then_some(t);
-        if let Ok(mut cache) = spec.cache.lock() {
-            if cache.len() < CACHE_LIMIT {
-                cache.insert(decisions.to_vec(), t.clone());
-            }
-        }
-        t
-    }
-}
-
 /// The tape `ins` with `decisions` applied, simplified and stripped of dead code;
 /// registers marked in `folded` (none where `None`) are folded as `fold` says.
-fn rebuild(ins: &[Instr], folded: Option<&[bool]>, fold: Fold, decisions: &[u8]) -> Tape {
+pub(crate) fn rebuild(
+    ins: &[Instr],
+    folded: Option<&[bool]>,
+    fold: Fold,
+    decisions: &[u8],
+) -> Vec<Instr> {
     let level = matches!(fold, Fold::Level(_));
     let (plus, minus) = if level {
         (f64::INFINITY, f64::NEG_INFINITY)
@@ -659,13 +460,12 @@ fn rebuild(ins: &[Instr], folded: Option<&[bool]>, fold: Fold, decisions: &[u8])
         };
     }
     let out = b.reg(map[n - 1]);
-    Tape::from_instructions(finish(b.ins, out))
+    finish(b.ins, out)
 }
 
 /// `i` over the new operands `v`, folded where they are constants: exactly where the
 /// value matters, by sign where only the sign does (`sign`).
 fn reemit(b: &mut Builder, i: &Instr, v: [Val; 3], fold: Option<bool>) -> Val {
-    use super::ast::BinOp;
     let [a, c2, e] = v;
     let c = Val::C(i.c);
     let regs = |b: &mut Builder, op: Op, x: Val, y: Val| {
@@ -696,17 +496,19 @@ fn reemit(b: &mut Builder, i: &Instr, v: [Val; 3], fold: Option<bool>) -> Val {
         },
         Op::Sqr => b.powi(a, 2),
         Op::Powi => b.powi(a, i.n),
-        Op::Sqrt | Op::Exp | Op::Ln | Op::Sin | Op::Cos | Op::Abs => b.unary_folded(i.op, a),
-        Op::AddC => b.binary(BinOp::Add, a, c),
-        Op::SubC => b.binary(BinOp::Sub, a, c),
-        Op::RSubC => b.binary(BinOp::Sub, c, a),
-        Op::MulC => b.binary(BinOp::Mul, a, c),
-        Op::DivC => b.binary(BinOp::Div, a, c),
-        Op::RDivC => b.binary(BinOp::Div, c, a),
-        Op::Add => b.binary(BinOp::Add, a, c2),
-        Op::Sub => b.binary(BinOp::Sub, a, c2),
-        Op::Mul => b.binary(BinOp::Mul, a, c2),
-        Op::Div => b.binary(BinOp::Div, a, c2),
+        Op::Sqrt | Op::Recip | Op::Exp | Op::Ln | Op::Sin | Op::Cos | Op::Abs => {
+            b.unary_folded(i.op, a)
+        }
+        Op::AddC => b.binary(Bin::Add, a, c),
+        Op::SubC => b.binary(Bin::Sub, a, c),
+        Op::RSubC => b.binary(Bin::Sub, c, a),
+        Op::MulC => b.binary(Bin::Mul, a, c),
+        Op::DivC => b.binary(Bin::Div, a, c),
+        Op::RDivC => b.binary(Bin::Div, c, a),
+        Op::Add => b.binary(Bin::Add, a, c2),
+        Op::Sub => b.binary(Bin::Sub, a, c2),
+        Op::Mul => b.binary(Bin::Mul, a, c2),
+        Op::Div => b.binary(Bin::Div, a, c2),
         // By sign: a meet is its other operand where one is positive, negative where
         // one is negative; a join the other way round.
         _ if meet && sign && (pos(a) || pos(c2)) => {
@@ -734,7 +536,7 @@ fn reemit(b: &mut Builder, i: &Instr, v: [Val; 3], fold: Option<bool>) -> Val {
         _ if subtract && sign && (neg(a) || pos(c2)) => Val::C(-1.0),
         Op::Min | Op::Max => min_max(b, i.op, a, c2),
         // By sign, an R-function has the sign of `min` or `max` of its operands (see
-        // `docs/specialisation.md`), whose ranges are far tighter.
+        // the [proofs](crate::specialise::proofs)), whose ranges are far tighter.
         Op::Intersect | Op::Union | Op::Subtract if sign && !level => match i.op {
             Op::Intersect => min_max(b, Op::Min, a, c2),
             Op::Union => min_max(b, Op::Max, a, c2),
@@ -746,10 +548,10 @@ fn reemit(b: &mut Builder, i: &Instr, v: [Val; 3], fold: Option<bool>) -> Val {
                 min_max(b, Op::Min, a, nb)
             }
         },
-        Op::Intersect => b.binary(BinOp::Intersect, a, c2),
-        Op::Union => b.binary(BinOp::Union, a, c2),
-        Op::Subtract => b.binary(BinOp::Subtract, a, c2),
-        Op::BlendUnion | Op::BlendIntersect => regs(b, i.op, a, c2),
+        Op::Intersect => b.binary(Bin::Intersect, a, c2),
+        Op::Union => b.binary(Bin::Union, a, c2),
+        Op::Subtract => b.binary(Bin::Subtract, a, c2),
+        Op::Hypot | Op::BlendUnion | Op::BlendIntersect => regs(b, i.op, a, c2),
         Op::Gt0 => b.step(Step::Pos, a),
         Op::Ge0 => b.step(Step::NonNeg, a),
         Op::Select => b.select(a, c2, e),

@@ -1,0 +1,175 @@
+//! The tape against its definition: a recorded tape performs the recorded code's own
+//! operations (the same bits at points, the same bounds over ranges, in every
+//! arithmetic), so it encloses every value the code's function takes; and a tape
+//! specialised to a region has the sign of the whole tape at every point there.
+
+use arith_aa::Aa;
+use arith_core::testkit::checks::{cases, run};
+use arith_core::testkit::expr::{expr_strategy, Expr};
+use arith_core::{rfunc, Range, Real};
+use arith_hull::Hull;
+use arith_ia::Interval;
+use arith_raa::Raa;
+use arith_revaa::RevAa;
+use model_ir::{Op, Tape};
+use proptest::prelude::*;
+use proptest::test_runner::TestCaseError;
+
+fn recorded(e: &Expr) -> Tape {
+    Tape::record(|x, y, z| e.eval(&[x, y, z]))
+}
+
+fn same(a: f64, b: f64) -> bool {
+    a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan())
+}
+
+/// The tape of `e` over the box `b` in `R` against `e` itself: the same bounds.
+fn same_bounds<R: Range>(t: &Tape, e: &Expr, b: &[(f64, f64); 3]) -> Result<(), TestCaseError> {
+    let inputs = |k: usize| R::input(k, b[k].0, b[k].1);
+    let direct = e.eval(&[inputs(0), inputs(1), inputs(2)]).bounds();
+    let taped = t.eval(inputs(0), inputs(1), inputs(2)).bounds();
+    prop_assert!(
+        same(direct.0, taped.0) && same(direct.1, taped.1),
+        "{}: {direct:?} directly, {taped:?} by the tape\n{t}",
+        R::NAME
+    );
+    Ok(())
+}
+
+fn boxes() -> impl Strategy<Value = [(f64, f64); 3]> {
+    let side = (-3.0..3.0f64, 0.0..1.5f64).prop_map(|(lo, w)| (lo, lo + w));
+    [side.clone(), side.clone(), side]
+}
+
+#[test]
+fn recordings_compute_what_the_code_computes() {
+    run(
+        "recordings",
+        cases(256),
+        (
+            expr_strategy(6, 3),
+            boxes(),
+            [-3.0..3.0f64, -3.0..3.0, -3.0..3.0],
+        ),
+        |(e, b, p)| {
+            let t = recorded(&e);
+            let (a, d) = (t.eval(p[0], p[1], p[2]), e.eval(&p));
+            prop_assert!(same(a, d), "{a} by the tape, {d} directly\n{t}");
+            same_bounds::<Interval>(&t, &e, &b)?;
+            same_bounds::<Aa>(&t, &e, &b)?;
+            same_bounds::<Raa<3>>(&t, &e, &b)?;
+            same_bounds::<RevAa<3>>(&t, &e, &b)?;
+            same_bounds::<Hull<3>>(&t, &e, &b)
+        },
+    );
+}
+
+/// A scene of balls and half-spaces joined by `min`, `max` and R-functions.
+#[derive(Clone, Debug)]
+struct Scene {
+    parts: Vec<([f64; 3], f64)>,
+    joins: Vec<u8>,
+}
+
+impl Scene {
+    fn eval<R: Real>(&self, x: R, y: R, z: R) -> R {
+        let part = |&(c, r): &([f64; 3], f64)| {
+            ((x.clone() - c[0]).sqr() + (y.clone() - c[1]).sqr() + (z.clone() - c[2]).sqr())
+                .rsub(r * r)
+        };
+        let mut acc = part(&self.parts[0]);
+        for (p, &j) in self.parts[1..].iter().zip(&self.joins) {
+            let v = part(p);
+            acc = match j % 5 {
+                0 => acc.max(&v),
+                1 => acc.min(&v),
+                2 => rfunc::union(acc, v),
+                3 => rfunc::intersect(acc, v),
+                _ => rfunc::subtract(acc, v),
+            };
+        }
+        acc
+    }
+}
+
+fn scenes() -> impl Strategy<Value = Scene> {
+    let part = ([-2.0..2.0f64, -2.0..2.0, -2.0..2.0], 0.1..1.0f64);
+    (
+        prop::collection::vec(part, 8..16),
+        prop::collection::vec(0u8..5, 16),
+    )
+        .prop_map(|(parts, joins)| Scene { parts, joins })
+}
+
+/// Sign agreement of `s` (specialised) and `t` at points of the box `b`.
+fn same_signs(s: &Tape, t: &Tape, b: &[(f64, f64); 3]) -> Result<(), TestCaseError> {
+    let n = 5;
+    for i in 0..=n {
+        for j in 0..=n {
+            for k in 0..=n {
+                let at = |(lo, hi): (f64, f64), u: usize| lo + (hi - lo) * u as f64 / n as f64;
+                let p = [at(b[0], i), at(b[1], j), at(b[2], k)];
+                let (v, w) = (t.eval(p[0], p[1], p[2]), s.eval(p[0], p[1], p[2]));
+                // Away from the surface, where rounding cannot flip the sign.
+                if v.abs() > 1e-9 {
+                    prop_assert!(
+                        v.signum() == w.signum(),
+                        "at {p:?}: {v} whole, {w} specialised\n{s}"
+                    );
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+fn specialised_in<R: Range>(t: &Tape, b: &[(f64, f64); 3]) -> Option<Tape> {
+    let r = [0, 1, 2].map(|k| R::input(k, b[k].0, b[k].1));
+    t.specialise(&[r])
+}
+
+#[test]
+fn specialised_tapes_keep_the_sign_in_their_region() {
+    let shortened = std::sync::atomic::AtomicUsize::new(0);
+    run(
+        "specialisation",
+        cases(128),
+        (scenes(), boxes()),
+        |(sc, b)| {
+            let t = Tape::record(|x, y, z| sc.eval(x, y, z)).fuse_rfunctions();
+            for s in [
+                specialised_in::<Interval>(&t, &b),
+                specialised_in::<RevAa<3>>(&t, &b),
+                specialised_in::<Hull<3>>(&t, &b),
+            ]
+            .into_iter()
+            .flatten()
+            {
+                if s.len() < t.len() {
+                    shortened.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                }
+                same_signs(&s, &t, &b)?;
+            }
+            Ok(())
+        },
+    );
+    // The property is not vacuous: many regions shorten their tape.
+    assert!(shortened.into_inner() > 20);
+}
+
+#[test]
+fn fused_scenes_hold_r_function_instructions() {
+    let sc = Scene {
+        parts: vec![
+            ([0.0; 3], 1.0),
+            ([1.0, 0.0, 0.0], 0.5),
+            ([0.0, 1.0, 0.0], 0.5),
+        ],
+        joins: vec![2, 3],
+    };
+    let t = Tape::record(|x, y, z| sc.eval(x, y, z));
+    let f = t.fuse_rfunctions();
+    let has = |t: &Tape, op: Op| t.instructions().iter().any(|i| i.op == op);
+    assert!(has(&f, Op::Union) && has(&f, Op::Intersect) && !has(&f, Op::Hypot));
+    assert!(has(&t, Op::Hypot) && !has(&t, Op::Union));
+}
