@@ -15,6 +15,7 @@
 //! - [`eval`] (private): the interpreter, behind [`Tape::eval`];
 //! - [`specialise`]'s rules, then [`tape`] ([`Tape`]) and region specialisation
 //!   ([`Tape::specialise`], with its [proofs](specialise::proofs));
+//! - [`batch`] ([`Tape::eval_batch`]: one tape over many inputs per call);
 //! - [`record`] ([`Tape::record`]) and [`fuse`] ([`Tape::fuse_rfunctions`]).
 //!
 //! ## Example: a model recorded, evaluated and specialised
@@ -41,6 +42,7 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod batch;
 pub mod builder;
 mod eval;
 pub mod fold;

@@ -173,3 +173,44 @@ fn fused_scenes_hold_r_function_instructions() {
     assert!(has(&f, Op::Union) && has(&f, Op::Intersect) && !has(&f, Op::Hypot));
     assert!(has(&t, Op::Hypot) && !has(&t, Op::Union));
 }
+
+/// `eval_batch` gives each lane exactly what `eval` gives it, in every arithmetic and
+/// at points, whatever the number of lanes.
+#[test]
+fn batches_match_single_evaluations() {
+    fn lanes<R: Range>(t: &Tape, bs: &[[(f64, f64); 3]]) -> Result<(), TestCaseError> {
+        let ins: Vec<[R; 3]> = bs
+            .iter()
+            .map(|b| [0, 1, 2].map(|k| R::input(k, b[k].0, b[k].1)))
+            .collect();
+        let col = |k: usize| ins.iter().map(|i| i[k].clone()).collect::<Vec<R>>();
+        let mut out = Vec::new();
+        t.eval_batch(&col(0), &col(1), &col(2), &mut out);
+        prop_assert_eq!(out.len(), ins.len());
+        for (o, [x, y, z]) in out.iter().zip(ins) {
+            let (a, b) = (o.bounds(), t.eval(x, y, z).bounds());
+            prop_assert!(same(a.0, b.0) && same(a.1, b.1), "{}: {a:?} vs {b:?}", R::NAME);
+        }
+        Ok(())
+    }
+    run(
+        "batches",
+        cases(128),
+        (expr_strategy(6, 3), prop::collection::vec(boxes(), 0..9)),
+        |(e, bs)| {
+            let t = recorded(&e);
+            lanes::<Interval>(&t, &bs)?;
+            lanes::<RevAa<3>>(&t, &bs)?;
+            lanes::<Raa<3>>(&t, &bs)?;
+            lanes::<Hull<3>>(&t, &bs)?;
+            lanes::<Aa>(&t, &bs)?;
+            let pts: Vec<f64> = bs.iter().map(|b| b[0].0).collect();
+            let mut out = Vec::new();
+            t.eval_batch(&pts, &pts, &pts, &mut out);
+            for (o, p) in out.iter().zip(&pts) {
+                prop_assert!(same(*o, t.eval(*p, *p, *p)));
+            }
+            Ok(())
+        },
+    );
+}

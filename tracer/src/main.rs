@@ -69,7 +69,7 @@ struct RenderArgs {
     #[command(flatten)]
     src: ModelArgs,
     /// Arithmetic.
-    #[arg(long, default_value = "revaa", help = arith_help(false))]
+    #[arg(long, default_value = "auto", help = render_arith_help())]
     arith: String,
     /// Image size WxH.
     #[arg(long, default_value = "640x480", allow_hyphen_values = true)]
@@ -124,6 +124,17 @@ struct RenderArgs {
     /// DX12 driver; no --shadows).
     #[arg(long, default_value = "cpu", allow_hyphen_values = true)]
     device: String,
+}
+
+/// `render --arith`'s help text: `auto` and the arithmetics of the one list.
+fn render_arith_help() -> String {
+    format!(
+        "Arithmetic: auto (a probe of {side} pixels across renders in revaa and hull and \
+         keeps revaa unless its ranges draw false walls there; revaa on the GPU), or one \
+         of {}",
+        ArithKind::names(),
+        side = tracer::render::auto_arith::PROBE_SIDE
+    )
 }
 
 /// The `--arith` help text, listing the arithmetics of the one list.
@@ -222,7 +233,14 @@ fn render_gpu(
 }
 
 fn cmd_render(a: &RenderArgs) -> Result<(), String> {
-    let kind: ArithKind = a.arith.parse().map_err(|e| format!("--arith: {e}"))?;
+    let auto = a.arith == "auto";
+    let kind: ArithKind = if auto {
+        ArithKind::Revaa
+    } else {
+        a.arith
+            .parse()
+            .map_err(|e| format!("--arith: {e} (or auto)"))?
+    };
     let gpu = match a.device.as_str() {
         "cpu" => false,
         "gpu" => true,
@@ -280,6 +298,18 @@ fn cmd_render(a: &RenderArgs) -> Result<(), String> {
     }
     // Ctrl-C stops starting tiles; the finished ones are written below.
     opts.cancel = Some(tracer::interrupt::cancel_flag());
+    let kind = if auto && !gpu {
+        let c = tracer::render::auto_arith::choose(&model.shape, &opts)?;
+        if !a.quiet {
+            eprintln!(
+                "--arith auto: {} (probe {}x{}: {} hits, unconfirmed revaa {}, hull {})",
+                c.kind, c.size.0, c.size.1, c.hits, c.unconfirmed.0, c.unconfirmed.1
+            );
+        }
+        c.kind
+    } else {
+        kind
+    };
     let res = if gpu {
         render_gpu(kind, &model, &opts)?
     } else {

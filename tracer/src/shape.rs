@@ -14,6 +14,20 @@ pub trait Shape: Send + Sync {
     /// `f(x, y, z)`: `>= 0` inside, `0` on the surface.
     fn eval<R: Real>(&self, x: R, y: R, z: R) -> R;
 
+    /// [`Shape::eval`] on every lane `l` of the inputs, `(x[l], y[l], z[l])`, into `out`
+    /// (cleared first), each lane exactly what `eval` gives on it. The default evaluates
+    /// the lanes one by one; tapes run each instruction over all lanes at once
+    /// (`model_ir::Tape::eval_batch`).
+    fn eval_batch<R: Real>(&self, x: &[R], y: &[R], z: &[R], out: &mut Vec<R>) {
+        out.clear();
+        out.extend(
+            x.iter()
+                .zip(y)
+                .zip(z)
+                .map(|((x, y), z)| self.eval(x.clone(), y.clone(), z.clone())),
+        );
+    }
+
     /// Whether [`Shape::eval`] over a pack of four forms ([`arith_core::pack`]) gives,
     /// lane by lane, what it gives over each form alone: true for code written with the
     /// [`Real`] operations only. A shape that looks at the concrete type of its arguments

@@ -57,6 +57,14 @@ impl Shape for AnyShape {
         }
     }
 
+    fn eval_batch<R: Real>(&self, x: &[R], y: &[R], z: &[R], out: &mut Vec<R>) {
+        match self {
+            AnyShape::Paper(m) => m.eval_batch(x, y, z, out),
+            AnyShape::Gm(m) => m.eval_batch(x, y, z, out),
+            AnyShape::Expr(t) => Shape::eval_batch(t, x, y, z, out),
+        }
+    }
+
     fn packs(&self) -> bool {
         match self {
             AnyShape::Paper(m) => m.packs(),
@@ -418,6 +426,10 @@ fn looks_like_path(spec: &str) -> bool {
 impl Shape for Model {
     fn eval<R: Real>(&self, x: R, y: R, z: R) -> R {
         self.shape.eval(x, y, z)
+    }
+
+    fn eval_batch<R: Real>(&self, x: &[R], y: &[R], z: &[R], out: &mut Vec<R>) {
+        self.shape.eval_batch(x, y, z, out)
     }
 
     fn packs(&self) -> bool {

@@ -4,6 +4,7 @@
 //! same reliable intersection, written by [`output`]. Monomorphised once per arithmetic
 //! and shape; the per-ray path does not allocate for `Copy` arithmetics.
 
+pub mod auto_arith;
 pub mod bspline_filter;
 pub mod output;
 pub mod shade;

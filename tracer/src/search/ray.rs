@@ -2,8 +2,9 @@
 //! range in the ray form (one input, `t`) excludes 0, or the segment is pruned with the
 //! form's linear part and halved, first half first; a segment shorter than the precision
 //! whose range holds 0 is the root, so no root is ever missed. The search is a state
-//! machine ([`RaySearch`]) asking for one range at a time, so [`first_roots`] searches four
-//! rays in one [`Arithmetic::RayPack`] evaluation. The paper's loop, our two departures
+//! machine ([`RaySearch`]) asking for one range at a time, so [`first_roots`] searches
+//! many rays in lock-step, their segments evaluated in batches of
+//! [`Arithmetic::RayPack`]s. The paper's loop, our two departures
 //! from it (sign-change shortcut, marching from the cell's slice) and their measured effect
 //! are in `docs/algorithm-1-ray.md`.
 
@@ -561,15 +562,15 @@ pub struct RayJob {
     pub depth: f64,
 }
 
-/// [`first_root`] for many rays, four at a time: each step evaluates the
-/// segments asked for by up to four searches in one [`Arithmetic::RayPack`] evaluation
-/// (scalar evaluations when a single search is left, or when the shape does not
-/// [pack](Shape::packs)), and a finished search's slot
-/// takes the next ray. Calls `done(index, first root, counters)` once per ray, in the
-/// order the rays finish. The roots are those of [`first_root`], ray by ray:
-/// each lane of a pack is the scalar ray form's range. Each segment is evaluated with
-/// its ray's shape: `shape`, or the narrowest of its windows (`windows[ray.shape - 1]`)
-/// that holds the segment; lanes are packed when they evaluate the same shape.
+/// [`first_root`] for many rays, [`SLOTS`] at a time in lock-step: each step evaluates
+/// the segment asked for by every search in flight, those on one shape together in one
+/// batched evaluation ([`Shape::eval_batch`]) of [`Arithmetic::RayPack`]s, four rays a
+/// pack (of single ray forms where the shape does not [pack](Shape::packs)), and a
+/// finished search's slot takes the next ray. Calls `done(index, first root, counters)`
+/// once per ray, in the order the rays finish. The roots are those of [`first_root`],
+/// ray by ray: each lane of a batch is the scalar ray form's range, and no lane reads
+/// another's. Each segment is evaluated with its ray's shape: `shape`, or the narrowest
+/// of its windows (`windows[ray.shape - 1]`) that holds the segment.
 pub fn first_roots<A: Arithmetic, S: Shape + ?Sized>(
     shape: &S,
     windows: &[&Windows<S>],
@@ -581,7 +582,74 @@ pub fn first_roots<A: Arithmetic, S: Shape + ?Sized>(
 }
 
 /// Evaluation steps of [`first_roots_until`] between two calls of its `stop`.
-const STOP_EVERY: u32 = 256;
+const STOP_EVERY: u32 = 64;
+
+/// Searches in flight at once in [`first_roots_until`] (a multiple of [`LANES`]).
+pub const SLOTS: usize = 8 * LANES;
+
+/// A search in flight.
+struct Slot {
+    ray: usize,
+    search: RaySearch,
+    seg: (f64, f64),
+    stats: RayStats,
+}
+
+/// The ranges of the segments of the slots `group` (all on the shape `s`) into
+/// `ranges[k]` for each slot `k` of the group.
+fn eval_group<A: Arithmetic, S: Shape + ?Sized>(
+    s: &S,
+    rays: &[RayJob],
+    slots: &[Option<Slot>],
+    group: &[usize],
+    ranges: &mut [Option<A::Ray>],
+) {
+    let job = |k: usize| {
+        let sl = slots[k].as_ref().expect("a grouped slot is active");
+        (&rays[sl.ray], sl.seg)
+    };
+    if s.packs() && group.len() > 1 {
+        // Four lanes a pack; the last pack repeats its first lane where it has no more
+        // (those results are dropped). `ray_inputs` lane by lane: `t d + o`.
+        let packs = group.len().div_ceil(LANES);
+        let mut xyz: [Vec<A::RayPack>; 3] = Default::default();
+        for p in 0..packs {
+            let lanes: [(&RayJob, (f64, f64)); LANES] = core::array::from_fn(|l| {
+                let k = group.get(p * LANES + l).unwrap_or(&group[p * LANES]);
+                job(*k)
+            });
+            let t = A::RayPack::pack(lanes.map(|(_, (a, b))| A::Ray::input(0, a, b)));
+            for (i, v) in xyz.iter_mut().enumerate() {
+                v.push(
+                    t.clone()
+                        .mul_add_lanes(lanes.map(|(r, _)| r.d[i]), lanes.map(|(r, _)| r.o[i])),
+                );
+            }
+        }
+        let mut out = Vec::with_capacity(packs);
+        s.eval_batch(&xyz[0], &xyz[1], &xyz[2], &mut out);
+        for (p, pack) in out.into_iter().enumerate() {
+            for (l, f) in pack.unpack().into_iter().enumerate() {
+                if let Some(&k) = group.get(p * LANES + l) {
+                    ranges[k] = Some(f);
+                }
+            }
+        }
+    } else {
+        let mut xyz: [Vec<A::Ray>; 3] = Default::default();
+        for &k in group {
+            let (r, (a, b)) = job(k);
+            for (v, c) in xyz.iter_mut().zip(ray_inputs::<A::Ray>(r.o, r.d, a, b)) {
+                v.push(c);
+            }
+        }
+        let mut out = Vec::with_capacity(group.len());
+        s.eval_batch(&xyz[0], &xyz[1], &xyz[2], &mut out);
+        for (&k, f) in group.iter().zip(out) {
+            ranges[k] = Some(f);
+        }
+    }
+}
 
 /// [`first_roots`] that gives up once `stop()` returns true (asked every
 /// [`STOP_EVERY`] evaluation steps: one ray of a loose arithmetic on a long tape can
@@ -595,12 +663,6 @@ pub fn first_roots_until<A: Arithmetic, S: Shape + ?Sized>(
     stop: impl Fn() -> bool,
     mut done: impl FnMut(usize, Option<f64>, RayStats),
 ) -> bool {
-    struct Slot {
-        ray: usize,
-        search: RaySearch,
-        seg: (f64, f64),
-        stats: RayStats,
-    }
     let ctx = |r: &RayJob| RayCtx {
         shape,
         windows: r.shape.checked_sub(1).map(|k| windows[k as usize]),
@@ -609,8 +671,12 @@ pub fn first_roots_until<A: Arithmetic, S: Shape + ?Sized>(
         d: r.d,
         params,
     };
-    let mut slots: [Option<Slot>; LANES] = Default::default();
-    let mut stacks: [Vec<(f64, f64)>; LANES] = core::array::from_fn(|_| Vec::with_capacity(64));
+    let mut slots: Vec<Option<Slot>> = (0..SLOTS).map(|_| None).collect();
+    let mut stacks: Vec<Vec<(f64, f64)>> = (0..SLOTS).map(|_| Vec::with_capacity(64)).collect();
+    let mut ranges: Vec<Option<A::Ray>> = (0..SLOTS).map(|_| None).collect();
+    let mut shapes: Vec<Option<&S>> = vec![None; SLOTS];
+    // The active slots grouped by shape: (shape, slots).
+    let mut groups: Vec<(&S, Vec<usize>)> = Vec::new();
     let mut queue = 0..rays.len();
     let mut steps = 0u32;
     loop {
@@ -637,52 +703,39 @@ pub fn first_roots_until<A: Arithmetic, S: Shape + ?Sized>(
                 }
             }
         }
-        let Some(first) = slots.iter().position(Option::is_some) else {
-            return true;
-        };
-        let alone = slots.iter().flatten().count() == 1;
-        let shapes: [Option<&S>; LANES] = core::array::from_fn(|k| {
-            let s = slots[k].as_ref()?;
-            Some(ctx(&rays[s.ray]).shape_on(s.seg.0, s.seg.1))
-        });
-        let lead = shapes[first].expect("an active slot");
-        let shared = shapes
-            .iter()
-            .flatten()
-            .all(|s| core::ptr::addr_eq(*s, lead));
-        // Lanes without a search repeat the first one's segment (their results are
-        // dropped).
-        let seg_of = |k: usize| {
-            slots[k]
+        for g in groups.iter_mut() {
+            g.1.clear();
+        }
+        let mut active = false;
+        for (k, s) in slots.iter().enumerate() {
+            shapes[k] = s
                 .as_ref()
-                .or(slots[first].as_ref())
-                .map(|s| (&rays[s.ray], s.seg))
-        };
-        let ranges: [Option<A::Ray>; LANES] = if alone || !shared || !lead.packs() {
-            core::array::from_fn(|k| {
-                let s = slots[k].as_ref()?;
-                let (r, (a, b)) = (&rays[s.ray], s.seg);
-                Some(range_on_segment(shapes[k]?, r.o, r.d, a, b))
-            })
-        } else {
-            // `ray_inputs` lane by lane: `t d + o`.
-            let lanes: [(&RayJob, (f64, f64)); LANES] =
-                core::array::from_fn(|k| seg_of(k).expect("an active slot"));
-            let t = A::RayPack::pack(lanes.map(|(_, (a, b))| A::Ray::input(0, a, b)));
-            let [x, y, z]: [A::RayPack; 3] = core::array::from_fn(|i| {
-                t.clone()
-                    .mul_add_lanes(lanes.map(|(r, _)| r.d[i]), lanes.map(|(r, _)| r.o[i]))
-            });
-            lead.eval(x, y, z).unpack().map(Some)
-        };
-        for (k, f) in ranges.iter().enumerate() {
-            let (Some(s), Some(f)) = (slots[k].as_mut(), f) else {
+                .map(|s| ctx(&rays[s.ray]).shape_on(s.seg.0, s.seg.1));
+            let Some(sh) = shapes[k] else { continue };
+            active = true;
+            match groups.iter_mut().find(|g| core::ptr::addr_eq(g.0, sh)) {
+                Some(g) => g.1.push(k),
+                None => groups.push((sh, vec![k])),
+            }
+        }
+        if !active {
+            return true;
+        }
+        for (sh, group) in &groups {
+            if !group.is_empty() {
+                eval_group::<A, S>(*sh, rays, &slots, group, &mut ranges);
+            }
+        }
+        // Shapes no slot is on any more (a window left behind) are forgotten.
+        groups.retain(|g| !g.1.is_empty());
+        for k in 0..SLOTS {
+            let (Some(s), Some(f)) = (slots[k].as_mut(), ranges[k].take()) else {
                 continue;
             };
             s.stats.range_ops += shapes[k].and_then(Shape::tape_len).unwrap_or(0) as u64;
             match s
                 .search
-                .feed(f, &ctx(&rays[s.ray]), &mut s.stats, &mut stacks[k])
+                .feed(&f, &ctx(&rays[s.ray]), &mut s.stats, &mut stacks[k])
             {
                 Next::Eval(a, b) => s.seg = (a, b),
                 Next::Done(hit) => {

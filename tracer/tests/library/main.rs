@@ -2,6 +2,7 @@
 //! (ground truth, culling invariance, model files, ...). Linked once, the renderer's
 //! instances for every arithmetic and shape are compiled once rather than per file.
 
+mod auto_arith;
 mod culling_invariance;
 mod expr;
 mod ground_truth;

@@ -94,6 +94,10 @@ impl Shape for Tape {
         Tape::eval(self, x, y, z)
     }
 
+    fn eval_batch<R: Real>(&self, x: &[R], y: &[R], z: &[R], out: &mut Vec<R>) {
+        Tape::eval_batch(self, x, y, z, out)
+    }
+
     /// Steps and selections look at their values ([`arith_core::Real::known`]), which
     /// packs do not answer: a tape with them evaluates its forms one at a time.
     fn packs(&self) -> bool {
