@@ -8,7 +8,9 @@
 //! 130.
 
 use crate::arith::ArithKind;
-use crate::mesh::{mesh_kind, output, MeshError, MeshOptions, MeshResult, MeshStats, DEFAULT_EXTRA_DEPTH};
+use crate::mesh::{
+    mesh_kind, output, MeshError, MeshOptions, MeshResult, MeshStats, DEFAULT_EXTRA_DEPTH,
+};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -109,7 +111,9 @@ pub fn plan(a: &MeshArgs) -> Result<Plan, String> {
         Some(s) => {
             let m = parse_depth("--max-depth", s)?;
             if m < depth {
-                return Err(format!("--max-depth '{s}': must be at least --depth ({depth})"));
+                return Err(format!(
+                    "--max-depth '{s}': must be at least --depth ({depth})"
+                ));
             }
             m
         }
@@ -155,9 +159,6 @@ pub fn run_mesh(a: &MeshArgs) -> Result<(), String> {
             eprintln!("interrupted: no mesh written");
             return Ok(());
         }
-        Err(e @ MeshError::TooLarge { .. }) => {
-            return Err(format!("thin features: {e}; lower --max-depth or free memory"))
-        }
         r => r?,
     };
     if crate::interrupt::requested() {
@@ -171,12 +172,18 @@ pub fn run_mesh(a: &MeshArgs) -> Result<(), String> {
 
 fn report(p: &Plan, res: &MeshResult, out: &Path) {
     let s = &res.stats;
+    warn(s);
     if p.json {
         crate::out!("{}", stats_json(&p.name, p.kind.name(), s));
         return;
     }
     crate::out!("{} depth={} arith={}", p.name, s.depth, p.kind);
     crate::out!("{s}");
+    crate::out!("wrote {}", out.display());
+}
+
+/// Warnings on stderr where the mesh may miss thin parts of the surface.
+fn warn(s: &MeshStats) {
     if s.unresolved_at_max_depth > 0 {
         eprintln!(
             "warning: {} cells at --max-depth {} still hold 0 in their range without a sign \
@@ -184,7 +191,13 @@ fn report(p: &Plan, res: &MeshResult, out: &Path) {
             s.unresolved_at_max_depth, s.max_depth
         );
     }
-    crate::out!("wrote {}", out.display());
+    if s.level_wanted > s.level {
+        eprintln!(
+            "warning: thin features asked for leaf level {}, held at {} by the memory \
+             available: parts of the surface thinner than a cell may be missing",
+            s.level_wanted, s.level
+        );
+    }
 }
 
 /// The stats of a meshing as one JSON object on one line.
@@ -194,6 +207,8 @@ pub fn stats_json(model: &str, arith: &str, s: &MeshStats) -> String {
     let counters = [
         ("depth", s.depth as u64),
         ("level", s.level as u64),
+        ("level_wanted", s.level_wanted as u64),
+        ("finer_cells", s.finer_cells),
         ("max_depth", s.max_depth as u64),
         ("cells_visited", s.cells_visited),
         ("cells_pruned", s.cells_pruned),
@@ -231,7 +246,8 @@ pub fn stats_json(model: &str, arith: &str, s: &MeshStats) -> String {
         t.watertight(),
         t.manifold(),
         opt(s.certified_cells),
-        s.certified_share().map_or("null".into(), |v| format!("{v:?}")),
+        s.certified_share()
+            .map_or("null".into(), |v| format!("{v:?}")),
         opt(s.self_intersections)
     ));
     out

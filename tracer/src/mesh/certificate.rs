@@ -46,7 +46,10 @@ pub fn inner_product_lower_bound(g: &[(f64, f64); 3]) -> f64 {
     }
     // Three products and two sums, each within half an ulp: step down by a few ulps'
     // worth, relative to the largest term.
-    let scale: f64 = g.iter().map(|&(lo, hi)| lo.abs().max(hi.abs()).powi(2)).sum();
+    let scale: f64 = g
+        .iter()
+        .map(|&(lo, hi)| lo.abs().max(hi.abs()).powi(2))
+        .sum();
     let r = sum - 8.0 * f64::EPSILON * scale;
     if r.is_nan() {
         f64::NEG_INFINITY

@@ -3,8 +3,8 @@
 //! cells around it (two triangles), wound so that its normal points outside (`f < 0`).
 //!
 //! A cell has one vertex per piece of the surface inside it ([`super::patches`]), each
-//! from the QEF of its crossings ([`super::qef`]), constrained to the cell (shrunk by
-//! a hair, so the vertices of neighbouring cells never coincide). The crossings come
+//! from the QEF of its crossings ([`super::qef`]), constrained to the cell within the
+//! domain (shrunk by a hair, so the vertices of neighbouring cells never coincide). The crossings come
 //! from root isolation on the edges ([`super::edge_roots`]), the signs from point
 //! values at the corners. Cells that the search dropped cannot touch a sign-changing
 //! edge (a cell whose corners differ in sign has 0 in its range); should one be missing
@@ -151,10 +151,7 @@ impl<S: Shape> Contour<'_, S> {
         all.par_sort_unstable();
         all.dedup();
         *corners += all.len() as u64;
-        let signs: Vec<bool> = all
-            .par_iter()
-            .map(|&k| self.inside_at(unkey(k)))
-            .collect();
+        let signs: Vec<bool> = all.par_iter().map(|&k| self.inside_at(unkey(k))).collect();
         keys.par_iter()
             .map(|&k| {
                 (0..8).fold(0u8, |m, i| {
@@ -227,7 +224,12 @@ impl<S: Shape> Contour<'_, S> {
             .collect();
         let mut pieces = Vec::with_capacity(cells.keys.len());
         let mut vertices = Vec::new();
-        for cell in chunks.into_iter().collect::<Option<Vec<_>>>()?.into_iter().flatten() {
+        for cell in chunks
+            .into_iter()
+            .collect::<Option<Vec<_>>>()?
+            .into_iter()
+            .flatten()
+        {
             pieces.push((shift(cell.piece, vertices.len() as u32), cell.count));
             vertices.extend(cell.vertices);
         }
@@ -254,13 +256,33 @@ impl<S: Shape> Contour<'_, S> {
                 qefs[piece[e] as usize].add(crossings[i].p, crossings[i].n);
             }
         }
-        let b = self.grid.cell_box(self.level, c);
-        let m = DVec3::splat(MARGIN * self.grid.cell_size(self.level));
+        let (lo, hi) = self.vertex_box(c);
         CellPieces {
             piece,
             count,
-            vertices: qefs.iter().map(|q| q.solve(b.min + m, b.max - m)).collect(),
+            vertices: qefs.iter().map(|q| q.solve(lo, hi)).collect(),
         }
+    }
+
+    /// Where the vertices of cell `c` may go: the cell within the domain (the clipped
+    /// shape's surface lies in the domain), shrunk by [`MARGIN`] of a cell.
+    fn vertex_box(&self, c: [u32; 3]) -> (DVec3, DVec3) {
+        let b = self.grid.cell_box(self.level, c);
+        let m = MARGIN * self.grid.cell_size(self.level);
+        let (mut lo, mut hi) = (b.min.max(self.domain.min), b.max.min(self.domain.max));
+        for k in 0..3 {
+            if !(lo[k] <= hi[k]) {
+                // Not in the domain at all (cannot happen for a cell with crossings).
+                (lo[k], hi[k]) = (b.min[k], b.max[k]);
+            }
+            if hi[k] - lo[k] > 2.0 * m {
+                (lo[k], hi[k]) = (lo[k] + m, hi[k] - m);
+            } else {
+                let mid = 0.5 * (lo[k] + hi[k]);
+                (lo[k], hi[k]) = (mid, mid);
+            }
+        }
+        (lo, hi)
     }
 
     /// Whether the centre of face `(axis, side)` of cell `c` is inside.
@@ -323,7 +345,13 @@ const CHUNK: u64 = 4096;
 
 /// Adds `first` to each piece index (as `u32`), keeping [`NONE`] as `u32::MAX`.
 fn shift(p: [u8; 12], first: u32) -> [u32; 12] {
-    p.map(|x| if x == NONE { u32::MAX } else { first + x as u32 })
+    p.map(|x| {
+        if x == NONE {
+            u32::MAX
+        } else {
+            first + x as u32
+        }
+    })
 }
 
 /// The sign-changing edges of a cell (key of the lower corner, axis).

@@ -55,7 +55,10 @@ pub fn crossing<A: Arithmetic, S: Shape>(
     let (roots, evals) = edge.isolate::<A>(len);
     // The first root (there is at least one: the ends differ in sign); if isolation
     // gave up on every segment, the bracket of the whole edge.
-    let t = roots.first().copied().unwrap_or_else(|| edge.bisect(0.0, len));
+    let t = roots
+        .first()
+        .copied()
+        .unwrap_or_else(|| edge.bisect(0.0, len));
     let p = edge.at(t);
     Crossing {
         p,
@@ -87,8 +90,7 @@ impl<S: Shape> Edge<'_, S> {
     /// `f` and its derivative along the edge over `[t0, t1]`.
     fn range<R: Range>(&self, t0: f64, t1: f64) -> Dual<R> {
         let s = R::input(0, self.a[self.axis] + t0, self.a[self.axis] + t1);
-        let mut xyz: [Dual<R>; 3] =
-            core::array::from_fn(|k| Dual::constant(0.0) + self.a[k]);
+        let mut xyz: [Dual<R>; 3] = core::array::from_fn(|k| Dual::constant(0.0) + self.a[k]);
         xyz[self.axis] = Dual {
             v: s,
             g: core::array::from_fn(|k| R::constant((k == self.axis) as u8 as f64)),
@@ -155,11 +157,7 @@ impl<S: Shape> Edge<'_, S> {
 /// from the inside end to the outside end (`lower_inside`: the end at the lower
 /// coordinate is inside).
 pub fn normal<S: Shape>(f: &S, p: DVec3, axis: usize, lower_inside: bool) -> DVec3 {
-    let d = f.eval(
-        Dual::var(p.x, 0),
-        Dual::var(p.y, 1),
-        Dual::var(p.z, 2),
-    );
+    let d = f.eval(Dual::var(p.x, 0), Dual::var(p.y, 1), Dual::var(p.z, 2));
     let g = -DVec3::from(d.g);
     let len = g.length();
     if len.is_finite() && len > 0.0 {

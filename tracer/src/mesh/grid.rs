@@ -112,12 +112,7 @@ pub fn edge_corners(e: usize) -> (usize, usize) {
 pub fn face_corners(axis: usize, side: usize) -> [usize; 4] {
     let (b, c) = other_axes(axis);
     let base = side << axis;
-    [
-        base,
-        base | 1 << b,
-        base | 1 << b | 1 << c,
-        base | 1 << c,
-    ]
+    [base, base | 1 << b, base | 1 << b | 1 << c, base | 1 << c]
 }
 
 /// A shape clipped to a box: `min(f, x - xmin, xmax - x, ...)`, inside where both are.

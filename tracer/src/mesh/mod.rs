@@ -51,6 +51,7 @@
 //! ```
 
 pub mod certificate;
+pub mod consistency;
 pub mod dual_contour;
 pub mod edge_roots;
 pub mod grid;
@@ -108,8 +109,9 @@ pub struct MeshOptions {
     pub certify: bool,
     /// Count self-intersecting triangle pairs after meshing.
     pub check_self_intersections: bool,
-    /// Refuse (with [`MeshError::TooLarge`]) a leaf level whose estimated memory
-    /// ([`estimate_bytes`]) exceeds this many bytes.
+    /// Refuse (with [`MeshError::TooLarge`]) a depth whose estimated memory
+    /// ([`estimate_bytes`]) exceeds this many bytes, and keep the leaf level that thin
+    /// features ask for within it (`MeshStats::level_wanted` then says so).
     pub memory_limit: Option<u64>,
     /// Progress reports (units: octree subtrees and chunks of edges and cells).
     pub progress: Option<Arc<dyn Progress>>,
@@ -188,7 +190,7 @@ pub fn estimate_bytes(depth: u32) -> u64 {
 pub enum MeshError {
     /// Invalid options (the message says which).
     Options(String),
-    /// The leaf level needs more memory than the limit.
+    /// The depth needs more memory than the limit.
     TooLarge {
         /// The leaf level asked for.
         level: u32,
@@ -240,6 +242,12 @@ pub struct MeshStats {
     pub depth: u32,
     /// The leaf level used: the depth, or deeper where probes found thin features.
     pub level: u32,
+    /// The deepest leaf level that thin features asked for (above `level` where the
+    /// memory limit held it back; 0 when none asked).
+    pub level_wanted: u32,
+    /// Leaves with a sign change whose finer lattice showed another topology than
+    /// their corners (summed over the searches).
+    pub finer_cells: u64,
     /// The deepest level probes could go to.
     pub max_depth: u32,
     /// Octree cells whose range was evaluated (all searches, probes included).
@@ -302,8 +310,14 @@ impl fmt::Display for MeshStats {
         )?;
         writeln!(
             f,
-            "unresolved         {} probes at the maximum depth",
-            self.unresolved_at_max_depth
+            "unresolved         {} probes at the maximum depth; {} leaves finer than their corners{}",
+            self.unresolved_at_max_depth,
+            self.finer_cells,
+            if self.level_wanted > self.level {
+                format!("; level {} wanted, held back by memory", self.level_wanted)
+            } else {
+                String::new()
+            }
         )?;
         writeln!(
             f,
@@ -395,7 +409,10 @@ impl Ticker {
 /// Meshes `shape` over `opts.domain` in the arithmetic `A`.
 ///
 /// Errors: invalid options, a leaf level over the memory limit, or cancellation.
-pub fn mesh<A: Arithmetic, S: Shape>(shape: &S, opts: &MeshOptions) -> Result<MeshResult, MeshError> {
+pub fn mesh<A: Arithmetic, S: Shape>(
+    shape: &S,
+    opts: &MeshOptions,
+) -> Result<MeshResult, MeshError> {
     opts.check()?;
     let start = Instant::now();
     let ticker = Ticker::new(opts.progress.clone());
@@ -407,7 +424,11 @@ pub fn mesh<A: Arithmetic, S: Shape>(shape: &S, opts: &MeshOptions) -> Result<Me
 }
 
 /// [`mesh`] with the arithmetic chosen at run time.
-pub fn mesh_kind<S: Shape>(kind: ArithKind, shape: &S, opts: &MeshOptions) -> Result<MeshResult, MeshError> {
+pub fn mesh_kind<S: Shape>(
+    kind: ArithKind,
+    shape: &S,
+    opts: &MeshOptions,
+) -> Result<MeshResult, MeshError> {
     crate::with_arith!(kind, A => mesh::<A, S>(shape, opts))
 }
 
@@ -431,7 +452,9 @@ fn run<A: Arithmetic, S: Shape>(
         level,
         cancel,
     };
-    let (mesh, c) = contour.run::<A>(&cells, ticker).ok_or(MeshError::Cancelled)?;
+    let (mesh, c) = contour
+        .run::<A>(&cells, ticker)
+        .ok_or(MeshError::Cancelled)?;
     stats.level = level;
     stats.surface_cells = c.cells;
     stats.multi_piece_cells = c.multi_piece_cells;
@@ -440,13 +463,7 @@ fn run<A: Arithmetic, S: Shape>(
     stats.edge_evals = c.edge_evals;
     stats.point_evals += c.corners;
     if opts.certify {
-        stats.certified_cells = Some(certify::<A, S>(
-            shape,
-            &opts.domain,
-            &grid,
-            level,
-            &cells,
-        ));
+        stats.certified_cells = Some(certify::<A, S>(shape, &opts.domain, &grid, level, &cells));
     }
     if cancelled(cancel) {
         return Err(MeshError::Cancelled);
@@ -494,16 +511,23 @@ fn search<A: Arithmetic, S: Shape>(
         stats.cells_specialised += d.specialised;
         stats.point_evals += d.point_evals;
         stats.unresolved_at_max_depth = d.unresolved;
+        stats.finer_cells += d.finer;
         if d.needs <= level {
             return Ok((level, d.cells));
         }
-        // Surface cells grow four-fold per level.
+        stats.level_wanted = stats.level_wanted.max(d.needs);
+        // Surface cells grow four-fold per level: the deepest level within the limit.
         let cells = d.cells.len().max(1) as u64;
-        let bytes = cells
-            .saturating_mul(1u64 << (2 * (d.needs - level)))
-            .saturating_mul(BYTES_PER_CELL);
-        opts.check_memory(d.needs, bytes)?;
-        level = d.needs;
+        let fits = |l: u32| {
+            let bytes = cells
+                .saturating_mul(1u64 << (2 * (l - level)))
+                .saturating_mul(BYTES_PER_CELL);
+            opts.memory_limit.is_none_or(|m| bytes <= m)
+        };
+        match (level + 1..=d.needs).rev().find(|&l| fits(l)) {
+            Some(l) => level = l,
+            None => return Ok((level, d.cells)),
+        }
     }
 }
 

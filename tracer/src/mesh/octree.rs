@@ -4,19 +4,28 @@
 //! change among its corners is kept for dual contouring.
 //!
 //! A leaf whose range still holds 0 while its 8 corners agree is *not* assumed empty
-//! (the peers' mistake: features thinner than a cell vanish). It is probed below the
-//! leaf level, down to the maximum depth, until every sub-cell's range excludes 0 or
-//! a sub-cell shows a sign change among its corners. A sign change at level `d` says
+//! (the peers' mistake: features thinner than a cell vanish). Unless the
+//! Plantinga–Vegter test certifies it (then any surface in it is one sheet that its
+//! neighbours' sign changes account for: a bulge of the surface through a face, not a
+//! feature of its own), it is probed below the leaf level, down to the maximum depth,
+//! until every sub-cell's range excludes 0 or is certified, or a sub-cell shows a sign
+//! change among its corners. A sign change at level `d` says
 //! that the leaf level must be at least `d` for that part of the surface to be meshed;
 //! the caller then searches again at that level ([`Descent::needs`]). Probes that reach
 //! the maximum depth with a range that still holds 0 and no sign change are counted
 //! ([`Descent::unresolved`]): a tangency, a feature thinner than the finest cell, or
 //! the arithmetic's overestimation.
 //!
+//! A leaf with a sign change that is not certified is checked on a finer lattice of
+//! points ([`super::consistency`]): where the lattice shows another topology than the
+//! corners (a thin shell through a corner), the leaf level must rise too.
+//!
 //! Below [`SPECIALISE_EVERY`] levels the shape is specialised to the cell
 //! ([`Shape::specialise`]) and the shorter shape serves the cell's subtree's range
 //! tests (never its point values: those use the whole shape).
 
+use super::certificate::certified;
+use super::consistency::finer_topology;
 use super::grid::{corner_of, Clipped, Grid};
 use crate::shape::{Aabb, Shape};
 use arith_core::{Arithmetic, Range};
@@ -25,6 +34,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Specialise the shape to a cell every this many levels.
 pub const SPECIALISE_EVERY: u32 = 3;
+
+/// Sub-cells a probe evaluates at most per leaf.
+pub const PROBE_BUDGET: u32 = 256;
 
 /// Cells are handed to threads as the subtrees below this level.
 const TASK_LEVEL: u32 = 3;
@@ -49,6 +61,10 @@ pub struct Descent {
     pub point_evals: u64,
     /// Cells whose shape was specialised.
     pub specialised: u64,
+    /// Plantinga–Vegter tests of probed cells.
+    pub certificates: u64,
+    /// Leaves with a sign change whose finer lattice showed another topology.
+    pub finer: u64,
     /// Whether the search was cancelled (the result is then incomplete).
     pub cancelled: bool,
 }
@@ -63,6 +79,8 @@ impl Descent {
         self.probed += o.probed;
         self.point_evals += o.point_evals;
         self.specialised += o.specialised;
+        self.certificates += o.certificates;
+        self.finer += o.finer;
         self.cancelled |= o.cancelled;
     }
 }
@@ -156,10 +174,12 @@ impl<S: Shape> Octree<'_, S> {
         }
         if level == self.level {
             let m = self.corner_mask(level, c, d);
-            if m != 0 && m != 0xff {
+            if crosses(m) {
                 d.cells.push(c);
+                self.check_pieces::<A>(shape, level, c, d);
             } else {
-                self.probe::<A>(shape, level, c, d);
+                let mut budget = PROBE_BUDGET;
+                self.probe::<A>(shape, level, c, d, &mut budget);
             }
             return;
         }
@@ -174,24 +194,71 @@ impl<S: Shape> Octree<'_, S> {
     }
 
     /// Looks below cell `c` at `level` (its range holds 0, its corners agree) for sign
-    /// changes, down to the maximum depth.
-    fn probe<A: Arithmetic>(&self, shape: &S, level: u32, c: [u32; 3], d: &mut Descent) {
-        if level >= self.max_depth {
+    /// changes, down to the maximum depth, unless the Plantinga–Vegter test certifies
+    /// the cell: then whatever surface it holds is a single sheet, a graph over one
+    /// direction, that cannot close on itself inside the cell (a small component or
+    /// both sheets of a thin shell would need gradients of opposite directions), so
+    /// the sign changes of its neighbours already account for it.
+    ///
+    /// Depth first, at most `budget` sub-cells per leaf (a layer of sub-cells along a
+    /// surface that only touches the leaf keeps 0 in its ranges down to the maximum
+    /// depth, `4^k` of them `k` levels down); the first sign change ends the probe
+    /// (the leaf level is raised and the search runs again). Returns whether it found
+    /// one. Sub-cells left when the budget runs out count as unresolved.
+    fn probe<A: Arithmetic>(
+        &self,
+        shape: &S,
+        level: u32,
+        c: [u32; 3],
+        d: &mut Descent,
+        budget: &mut u32,
+    ) -> bool {
+        let b = self.grid.cell_box(level, c);
+        d.certificates += 1;
+        if certified::<A, S>(shape, &self.domain, &b) {
+            return false;
+        }
+        if level >= self.max_depth || *budget == 0 {
             d.unresolved += 1;
-            return;
+            return false;
         }
         for i in 0..8 {
             let (l, k) = (level + 1, child(c, i));
+            if *budget == 0 {
+                d.unresolved += 1;
+                return false;
+            }
+            *budget -= 1;
             d.probed += 1;
             if !self.may_cross::<A>(shape, &self.grid.cell_box(l, k)) {
                 continue;
             }
             let m = self.corner_mask(l, k, d);
-            if m != 0 && m != 0xff {
+            if crosses(m) || self.probe::<A>(shape, l, k, d, budget) {
                 d.needs = d.needs.max(l);
-            } else {
-                self.probe::<A>(shape, l, k, d);
+                return true;
             }
+        }
+        false
+    }
+
+    /// For a leaf with a sign change that the Plantinga–Vegter test does not certify:
+    /// whether a finer lattice shows another topology than its corners
+    /// ([`finer_topology`]); if so the leaf level must reach that sub-level.
+    fn check_pieces<A: Arithmetic>(&self, shape: &S, level: u32, c: [u32; 3], d: &mut Descent) {
+        if level >= self.max_depth {
+            return;
+        }
+        d.certificates += 1;
+        if certified::<A, S>(shape, &self.domain, &self.grid.cell_box(level, c)) {
+            return;
+        }
+        let levels = self.max_depth - level;
+        let (k, evals) = finer_topology(self.shape, &self.domain, &self.grid, level, c, levels);
+        d.point_evals += evals;
+        if let Some(k) = k {
+            d.finer += 1;
+            d.needs = d.needs.max(level + k);
         }
     }
 }
@@ -269,7 +336,10 @@ mod tests {
         let g = Grid::new(&Aabb::cube(1.0), 4);
         for c in &d.cells {
             let b = g.cell_box(4, *c);
-            let (near, far) = (b.min.max(-b.max).max(DVec3::ZERO), b.min.abs().max(b.max.abs()));
+            let (near, far) = (
+                b.min.max(-b.max).max(DVec3::ZERO),
+                b.min.abs().max(b.max.abs()),
+            );
             assert!(near.length() <= 0.6 && far.length() >= 0.6, "{c:?}");
         }
         assert_eq!(d.needs, 4);

@@ -53,8 +53,7 @@ pub fn check(path: &Path) -> Result<Format, String> {
         return Err(format!("'{}': is a directory", path.display()));
     }
     let tmp = temp_path(path);
-    File::create(&tmp)
-        .map_err(|e| format!("'{}': cannot write there: {e}", path.display()))?;
+    File::create(&tmp).map_err(|e| format!("'{}': cannot write there: {e}", path.display()))?;
     let _ = std::fs::remove_file(&tmp);
     Ok(format)
 }
@@ -109,7 +108,12 @@ fn write_to(path: &Path, format: Format, mesh: &Mesh) -> std::io::Result<()> {
 
 /// OBJ: `v x y z` lines (shortest round-trip decimals), then `f a b c` (1-based).
 pub fn write_obj(w: &mut impl Write, mesh: &Mesh) -> std::io::Result<()> {
-    writeln!(w, "# tracer mesh: {} vertices, {} triangles", mesh.vertices.len(), mesh.triangles.len())?;
+    writeln!(
+        w,
+        "# tracer mesh: {} vertices, {} triangles",
+        mesh.vertices.len(),
+        mesh.triangles.len()
+    )?;
     for v in &mesh.vertices {
         writeln!(w, "v {:?} {:?} {:?}", v[0], v[1], v[2])?;
     }

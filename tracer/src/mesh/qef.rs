@@ -158,7 +158,11 @@ impl Problem {
             for (j, &fj) in free.iter().enumerate() {
                 a[i][j] = self.m[fi][fj];
             }
-            b[i] = self.r[fi] - (0..3).filter(|k| fix[*k] != 0).map(|k| self.m[fi][k] * y[k]).sum::<f64>();
+            b[i] = self.r[fi]
+                - (0..3)
+                    .filter(|k| fix[*k] != 0)
+                    .map(|k| self.m[fi][k] * y[k])
+                    .sum::<f64>();
         }
         let sol = solve_spd(&a, &b, n)?;
         for (i, &fi) in free.iter().enumerate() {
@@ -207,9 +211,18 @@ mod tests {
     #[test]
     fn the_box_minimum_beats_a_lattice() {
         let mut q = Qef::default();
-        q.add(DVec3::new(0.9, 0.5, 0.5), DVec3::new(1.0, 0.2, 0.0).normalize());
-        q.add(DVec3::new(0.5, 0.95, 0.5), DVec3::new(0.1, 1.0, 0.3).normalize());
-        q.add(DVec3::new(0.5, 0.5, 0.2), DVec3::new(0.0, 0.4, 1.0).normalize());
+        q.add(
+            DVec3::new(0.9, 0.5, 0.5),
+            DVec3::new(1.0, 0.2, 0.0).normalize(),
+        );
+        q.add(
+            DVec3::new(0.5, 0.95, 0.5),
+            DVec3::new(0.1, 1.0, 0.3).normalize(),
+        );
+        q.add(
+            DVec3::new(0.5, 0.5, 0.2),
+            DVec3::new(0.0, 0.4, 1.0).normalize(),
+        );
         let (lo, hi) = (DVec3::ZERO, DVec3::splat(0.6));
         let v = q.solve(lo, hi);
         assert!(v.cmpge(lo).all() && v.cmple(hi).all());

@@ -249,7 +249,12 @@ mod tests {
     fn a_fold_and_a_fan_through_a_shared_vertex_count() {
         // (0, 1, 3) folded back onto (0, 1, 2).
         let fold = mesh(
-            vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.5, 0.5, 0.0]],
+            vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [0.5, 0.5, 0.0],
+            ],
             vec![[0, 1, 2], [1, 0, 3]],
         );
         assert_eq!(count(&fold), 1);

@@ -87,7 +87,10 @@ impl Shape for Torus {
 struct Cube(f64);
 impl Shape for Cube {
     fn eval<R: Real>(&self, x: R, y: R, z: R) -> R {
-        x.abs().rsub(self.0).min(&y.abs().rsub(self.0)).min(&z.abs().rsub(self.0))
+        x.abs()
+            .rsub(self.0)
+            .min(&y.abs().rsub(self.0))
+            .min(&z.abs().rsub(self.0))
     }
 }
 
@@ -148,7 +151,10 @@ fn a_cube_with_a_hole_has_euler_characteristic_0_and_keeps_its_corners() {
             .iter()
             .map(|v| (DVec3::from(*v) - corner).length())
             .fold(f64::INFINITY, f64::min);
-        assert!(nearest < 0.1 * h, "corner {corner}: nearest vertex {nearest}, cell {h}");
+        assert!(
+            nearest < 0.1 * h,
+            "corner {corner}: nearest vertex {nearest}, cell {h}"
+        );
     }
 }
 
@@ -176,9 +182,7 @@ fn separated_spheres_give_as_many_components() {
     struct Three;
     impl Shape for Three {
         fn eval<R: Real>(&self, x: R, y: R, z: R) -> R {
-            let ball = |c: DVec3| {
-                Ball { c, r: 0.2 }.eval(x.clone(), y.clone(), z.clone())
-            };
+            let ball = |c: DVec3| Ball { c, r: 0.2 }.eval(x.clone(), y.clone(), z.clone());
             ball(DVec3::new(-0.6, 0.0, 0.0))
                 .max(&ball(DVec3::new(0.1, 0.5, 0.0)))
                 .max(&ball(DVec3::new(0.4, -0.4, 0.3)))
@@ -201,7 +205,11 @@ fn a_shell_a_fifth_of_a_cell_thick_keeps_both_sheets() {
         }
     }
     let res = run(&Shell(t), d, depth);
-    assert!(res.stats.level > depth, "the leaf level rose: {:?}", res.stats);
+    assert!(
+        res.stats.level > depth,
+        "the leaf level rose: {:?}",
+        res.stats
+    );
     // Two spheres: the shell's outer and inner sheets.
     assert_closed(&res, 4, 2);
     // The peers' behaviour: without probes below the depth, nothing is found.
@@ -235,7 +243,10 @@ fn a_surface_leaving_the_domain_is_capped() {
     let res = run(&ball, Aabb::cube(1.0), 4);
     assert_closed(&res, 2, 1);
     for v in &res.mesh.vertices {
-        assert!(v.iter().all(|c| c.abs() <= 1.0 + 1e-9), "{v:?} outside the domain");
+        assert!(
+            v.iter().all(|c| c.abs() <= 1.0 + 1e-9),
+            "{v:?} outside the domain"
+        );
     }
 }
 
