@@ -12,7 +12,7 @@
 //! its four cells and the mesh stays closed.
 
 use super::edge_roots::{crossing, Crossing};
-use super::grid::{corner_of, edge_between, edge_corners, key, unkey, Grid};
+use super::grid::{corner_of, edge_between, edge_corners, face_corners, key, unkey, Grid};
 use super::octree::inside;
 use super::patches::{pieces, NONE};
 use super::qef::Qef;
@@ -21,6 +21,7 @@ use crate::shape::{Aabb, Shape};
 use arith_core::Arithmetic;
 use glam::DVec3;
 use rayon::prelude::*;
+use rustc_hash::FxHashSet;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Vertices stay this share of a cell inside their cell's faces.
@@ -205,6 +206,8 @@ impl<S: Shape> Contour<'_, S> {
         crossings: &[Crossing],
         ticker: &Ticker,
     ) -> Option<(Vec<([u32; 12], u8)>, Vec<DVec3>)> {
+        let flipped = self.flip_faces(cells);
+        let flipped = &flipped;
         let chunks: Vec<Option<Vec<CellPieces>>> = cells
             .keys
             .par_chunks(CHUNK as usize)
@@ -216,7 +219,7 @@ impl<S: Shape> Contour<'_, S> {
                 let v = ks
                     .iter()
                     .zip(ms)
-                    .map(|(&k, &m)| self.cell_vertices(unkey(k), m, edges, crossings))
+                    .map(|(&k, &m)| self.cell_vertices(unkey(k), m, flipped, edges, crossings))
                     .collect();
                 ticker.tick(1);
                 Some(v)
@@ -236,15 +239,71 @@ impl<S: Shape> Contour<'_, S> {
         Some((pieces, vertices))
     }
 
+    /// The ambiguous faces whose decision is flipped: where both cells beside a face
+    /// join its two segments into one piece, the pair of their vertices would be the
+    /// side of four triangles (a non-manifold edge); pairing the face's crossings the
+    /// other way separates them. A few rounds, as a flip changes two cells' pieces.
+    fn flip_faces(&self, cells: &Cells) -> Flipped {
+        let mut flipped = Flipped::default();
+        for _ in 0..FLIP_ROUNDS {
+            let found = self.conflicts(cells, &flipped);
+            if found.is_empty() {
+                break;
+            }
+            for f in found {
+                if !flipped.insert(f) {
+                    flipped.remove(&f);
+                }
+            }
+        }
+        flipped
+    }
+
+    /// The ambiguous faces (each seen from its lower cell) whose two cells both join
+    /// the face's two segments into one piece.
+    fn conflicts(&self, cells: &Cells, flipped: &Flipped) -> Vec<(u64, u8)> {
+        cells
+            .keys
+            .par_iter()
+            .zip(&cells.masks)
+            .flat_map_iter(|(&k, &m)| {
+                let c = unkey(k);
+                let (piece, _) = self.cell_pieces(c, m, flipped);
+                let mut out = Vec::new();
+                for axis in 0..3 {
+                    if !ambiguous(m, axis, 1) || !joined(&piece, axis, 1) {
+                        continue;
+                    }
+                    let mut n = c;
+                    n[axis] += 1;
+                    let Some(j) = cells.index(n) else { continue };
+                    let (np, _) = self.cell_pieces(n, cells.masks[j], flipped);
+                    if joined(&np, axis, 0) {
+                        out.push(face_key(c, axis, 1));
+                    }
+                }
+                out
+            })
+            .collect()
+    }
+
+    /// The pieces of cell `c` with the face decisions of `flipped`.
+    fn cell_pieces(&self, c: [u32; 3], mask: u8, flipped: &Flipped) -> ([u8; 12], u8) {
+        pieces(mask, |axis, side| {
+            self.face_centre_inside(c, axis, side) ^ flipped.contains(&face_key(c, axis, side))
+        })
+    }
+
     /// The pieces of cell `c` and their vertices.
     fn cell_vertices(
         &self,
         c: [u32; 3],
         mask: u8,
+        flipped: &Flipped,
         edges: &[(u64, u8)],
         crossings: &[Crossing],
     ) -> CellPieces {
-        let (piece, count) = pieces(mask, |axis, side| self.face_centre_inside(c, axis, side));
+        let (piece, count) = self.cell_pieces(c, mask, flipped);
         let mut qefs = vec![Qef::default(); count as usize];
         for e in 0..12 {
             if piece[e] == NONE {
@@ -271,7 +330,7 @@ impl<S: Shape> Contour<'_, S> {
         let m = MARGIN * self.grid.cell_size(self.level);
         let (mut lo, mut hi) = (b.min.max(self.domain.min), b.max.min(self.domain.max));
         for k in 0..3 {
-            if !(lo[k] <= hi[k]) {
+            if lo[k].partial_cmp(&hi[k]).is_none_or(|o| o.is_gt()) {
                 // Not in the domain at all (cannot happen for a cell with crossings).
                 (lo[k], hi[k]) = (b.min[k], b.max[k]);
             }
@@ -338,6 +397,32 @@ struct CellPieces {
     piece: [u8; 12],
     count: u8,
     vertices: Vec<DVec3>,
+}
+
+/// Faces whose ambiguity decision is flipped: (key of the lower corner, normal axis).
+type Flipped = FxHashSet<(u64, u8)>;
+
+/// Rounds of face flips at most.
+const FLIP_ROUNDS: usize = 4;
+
+/// The global key of face `(axis, side)` of cell `c`.
+fn face_key(c: [u32; 3], axis: usize, side: usize) -> (u64, u8) {
+    let mut k = c;
+    k[axis] += side as u32;
+    (key(k), axis as u8)
+}
+
+/// Whether the corners of face `(axis, side)` alternate in sign.
+fn ambiguous(mask: u8, axis: usize, side: usize) -> bool {
+    let cs = face_corners(axis, side).map(|c| mask >> c & 1);
+    cs[0] == cs[2] && cs[1] == cs[3] && cs[0] != cs[1]
+}
+
+/// Whether the four edges of face `(axis, side)` all belong to one piece.
+fn joined(piece: &[u8; 12], axis: usize, side: usize) -> bool {
+    let cs = face_corners(axis, side);
+    let p = piece[edge_between(cs[0], cs[1])];
+    p != NONE && (1..4).all(|k| piece[edge_between(cs[k], cs[(k + 1) % 4])] == p)
 }
 
 /// Units of work per progress tick.

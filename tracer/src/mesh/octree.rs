@@ -183,7 +183,7 @@ impl<S: Shape> Octree<'_, S> {
             }
             return;
         }
-        let special = (level % SPECIALISE_EVERY == 0 && shape.specialises())
+        let special = (level.checked_rem(SPECIALISE_EVERY) == Some(0) && shape.specialises())
             .then(|| shape.specialise(&[cell_inputs::<A::Cell>(&b)]))
             .flatten();
         d.specialised += special.is_some() as u64;
