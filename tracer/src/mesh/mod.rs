@@ -12,7 +12,8 @@
 //!   Contouring's clustering), [`qef`]: each vertex from its planes, minimised over
 //!   the cell's box;
 //! - [`dual_contour`]: a quad (two triangles) per sign-changing edge, wound outward;
-//! - [`certificate`]: the Plantinga–Vegter topology test per surface cell;
+//! - [`certificate`]: the Plantinga–Vegter topology test per surface cell, and
+//!   [`consistency`]: a finer lattice where it fails, for shells thinner than a cell;
 //! - [`topology`] and [`self_intersections`]: what the result is (watertight,
 //!   manifold, Euler characteristic, intersecting triangle pairs over a BVH);
 //! - [`output`]: OBJ, binary PLY and binary STL, written atomically.
