@@ -6,6 +6,7 @@
 #
 #   scripts/mesh-table.sh [DEPTH] [MODEL...]
 #   TRACER=target/debug/tracer ARITHS="ia aa raa revaa hull" scripts/mesh-table.sh 5 mitchell
+#   MAX_DEPTH=6 scripts/mesh-table.sh 5 hair     # --max-depth (default: depth + 4)
 #
 # TRACER defaults to target/release/tracer (built if missing).
 set -uo pipefail
@@ -29,7 +30,7 @@ echo "|---|---|---|---|---|---|---|---|---|---|---|"
 for m in "${models[@]}"; do
     for a in $ariths; do
         json="$(timeout "$timeout_s" "$tracer" mesh "$m" --depth "$depth" --arith "$a" \
-            --out "$out/m.ply" --stats json -q 2>/dev/null)"
+            ${MAX_DEPTH:+--max-depth "$MAX_DEPTH"} --out "$out/m.ply" --stats json -q 2>/dev/null)"
         if [ -z "$json" ]; then
             echo "| $m | $a | > $timeout_s (stopped) | | | | | | | | |"
             continue
