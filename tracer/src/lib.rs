@@ -11,7 +11,8 @@
 //!   Lipschitz casters ([`search::lipschitz`]) and Lipschitz cone tracing
 //!   ([`search::cone`]);
 //! - renderers: the reliable tracer ([`render`], with shading and output files) and the
-//!   progressive previewer ([`progressive`], a queue of cones);
+//!   progressive previewer ([`progressive`], a queue of cones); the mesher ([`mesh`]:
+//!   an octree pruned by range arithmetic, dual contouring, OBJ/PLY/STL files);
 //! - the `tracer` binary (feature `cli`) on top; [`interrupt`] stops long work on Ctrl-C.
 //!
 //! ## Example: render a model of your own
@@ -78,6 +79,7 @@ pub mod cli;
 pub mod gpu;
 pub mod interrupt;
 pub mod lipschitz_bound;
+pub mod mesh;
 pub mod models;
 pub mod progressive;
 pub mod render;

@@ -1,7 +1,7 @@
 //! `tracer`: reliable ray casting of implicit surfaces from the command line.
 //!
-//! `tracer render`, `tracer range`, `tracer list`, `tracer preview`, `tracer view` (see
-//! `--help`), and
+//! `tracer render`, `tracer range`, `tracer list`, `tracer preview`, `tracer view`,
+//! `tracer mesh` (see `--help`), and
 //! `tracer completions SHELL`, `tracer man` for the shell and the manual.
 //! User errors print one line on stderr and exit with code 2. Ctrl-C stops `render` and
 //! `preview` early: what was computed is written, and the exit code is 130.
@@ -55,6 +55,16 @@ enum Cmd {
     /// window stops and writes the last frame to --out.
     #[command(after_long_help = tracer::models::formula::SYNTAX)]
     View(tracer::cli::gpu_window::ViewWindowArgs),
+    /// Mesh a model or a formula: an octree pruned by range arithmetic, dual contouring
+    /// with vertices kept in their cells; writes .obj, .ply or .stl.
+    ///
+    /// The mesh is closed (clipped to the domain), wound outward, one vertex per piece
+    /// of surface in a cell; thin features below a cell are searched for down to
+    /// --max-depth. --stats reports watertightness, manifoldness, the Euler
+    /// characteristic, the share of cells whose topology is certified (Plantinga and
+    /// Vegter) and self-intersecting triangle pairs.
+    #[command(after_long_help = tracer::models::formula::SYNTAX)]
+    Mesh(tracer::cli::mesh::MeshArgs),
     /// Print a shell completion script: bash, zsh, fish, elvish or powershell.
     Completions {
         /// The shell.
@@ -179,6 +189,7 @@ fn main() -> ExitCode {
             tracer::interrupt::install();
             tracer::cli::gpu_window::run_view(a)
         }
+        Cmd::Mesh(a) => tracer::cli::mesh::run_mesh(a),
         Cmd::Completions { shell } => cmd_completions(shell),
         Cmd::Man => cmd_man(),
     };

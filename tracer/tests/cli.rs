@@ -1184,3 +1184,158 @@ fn view_refuses_bad_flags_before_opening_anything() {
         assert_user_error(&args, needle);
     }
 }
+
+/// `tracer mesh` refuses before any work, each with one line: a bad extension, an
+/// unwritable place, bad depths, a depth beyond the machine's memory, bad flags.
+#[test]
+fn mesh_refusals() {
+    let sphere = ["mesh", "--expr", "1 - x^2 - y^2 - z^2"];
+    let with = |extra: &[&str]| -> Vec<String> {
+        sphere.iter().chain(extra).map(|s| s.to_string()).collect()
+    };
+    let ok_out = tmp("refused.stl");
+    let ok_out = ok_out.to_str().unwrap();
+    let cases: &[(&[&str], &str)] = &[
+        (&["--out", "x.png"], "--out"),
+        (&["--out", "x"], "--out"),
+        (&["--out", "/nonexistent-dir-tracer/m.obj"], "--out"),
+        (&["--out", ok_out, "--depth", "1"], "--depth"),
+        (&["--out", ok_out, "--depth", "x"], "--depth"),
+        (&["--out", ok_out, "--depth", "-3"], "--depth"),
+        (&["--out", ok_out, "--depth", "20"], "--depth 20"),
+        (
+            &["--out", ok_out, "--depth", "5", "--max-depth", "4"],
+            "--max-depth",
+        ),
+        (&["--out", ok_out, "--arith", "nope"], "--arith"),
+        (&["--out", ok_out, "--stats", "xml"], "--stats"),
+        (&["--out", ok_out, "--threads", "0"], "--threads"),
+        (&["--out", ok_out, "--domain", "1,1,1,0,0,0"], "--domain"),
+    ];
+    for (extra, needle) in cases {
+        let args = with(extra);
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        assert_user_error(&args, needle);
+    }
+    assert!(
+        !std::path::Path::new(ok_out).exists(),
+        "a refusal wrote a file"
+    );
+    let dir = std::env::temp_dir();
+    assert_user_error(&["mesh", "no-such-model", "--out", ok_out], "no-such-model");
+    assert_user_error(&["mesh", "csg", "--out", dir.to_str().unwrap()], "--out");
+}
+
+/// Each format is written and reads back as the same closed mesh: OBJ and PLY
+/// indexed (V - E + F = 2 for a sphere), STL with the same triangle count.
+#[test]
+fn mesh_writes_each_format() {
+    let mut triangles = Vec::new();
+    for ext in ["obj", "ply", "stl"] {
+        let path = tmp(&format!("sphere.{ext}"));
+        let out = tracer(&[
+            "mesh",
+            "--expr",
+            "0.5 - x^2 - y^2 - z^2",
+            "--domain",
+            "-1,-1,-1,1,1,1",
+            "--depth",
+            "4",
+            "--out",
+            path.to_str().unwrap(),
+            "--stats",
+            "json",
+        ]);
+        assert_eq!(out.status.code(), Some(0), "{out:?}");
+        let json = String::from_utf8_lossy(&out.stdout);
+        assert_eq!(json.lines().count(), 1, "{json}");
+        for key in [
+            "\"watertight\": true",
+            "\"manifold\": true",
+            "\"euler\": 2",
+            "\"self_intersections\": 0",
+        ] {
+            assert!(json.contains(key), "{key} not in {json}");
+        }
+        let bytes = std::fs::read(&path).unwrap();
+        let (v, f) = match ext {
+            "obj" => {
+                let text = String::from_utf8(bytes).unwrap();
+                let v = text.lines().filter(|l| l.starts_with("v ")).count();
+                let f: Vec<[usize; 3]> = text
+                    .lines()
+                    .filter_map(|l| l.strip_prefix("f "))
+                    .map(|l| {
+                        let i: Vec<usize> = l.split(' ').map(|x| x.parse().unwrap()).collect();
+                        [i[0], i[1], i[2]]
+                    })
+                    .collect();
+                assert!(f.iter().flatten().all(|&i| (1..=v).contains(&i)));
+                (v, f.len())
+            }
+            "ply" => {
+                let end = bytes
+                    .windows(11)
+                    .position(|w| w == b"end_header\n")
+                    .unwrap()
+                    + 11;
+                let header = String::from_utf8_lossy(&bytes[..end]).to_string();
+                let count = |what: &str| -> usize {
+                    header
+                        .lines()
+                        .find_map(|l| l.strip_prefix(&format!("element {what} ")))
+                        .unwrap()
+                        .parse()
+                        .unwrap()
+                };
+                let (v, f) = (count("vertex"), count("face"));
+                assert!(header.contains("binary_little_endian"));
+                assert_eq!(bytes.len() - end, v * 24 + f * 13);
+                (v, f)
+            }
+            _ => {
+                let n = u32::from_le_bytes(bytes[80..84].try_into().unwrap()) as usize;
+                assert_eq!(bytes.len(), 84 + 50 * n);
+                (0, n)
+            }
+        };
+        if ext != "stl" {
+            // A closed triangle mesh of a sphere: E = 3F/2, V - E + F = 2.
+            assert_eq!(2 * v as i64 - f as i64, 4, "{ext}: V {v}, F {f}");
+        }
+        triangles.push(f);
+    }
+    assert!(triangles.windows(2).all(|w| w[0] == w[1]), "{triangles:?}");
+}
+
+/// Every listed model meshes (low depth), with a closed mesh.
+#[test]
+fn mesh_takes_every_listed_model() {
+    let list = tracer(&["list"]);
+    let text = String::from_utf8_lossy(&list.stdout);
+    let names: Vec<&str> = text
+        .lines()
+        .filter(|l| !l.starts_with(' ') && !l.is_empty())
+        .collect();
+    assert!(names.len() > 5, "{text}");
+    for name in names {
+        let path = tmp(&format!("{name}.ply"));
+        let out = tracer(&[
+            "mesh",
+            name,
+            "--depth",
+            "3",
+            "--max-depth",
+            "4",
+            "--out",
+            path.to_str().unwrap(),
+            "--stats",
+            "json",
+            "--no-check",
+        ]);
+        assert_eq!(out.status.code(), Some(0), "{name}: {out:?}");
+        let json = String::from_utf8_lossy(&out.stdout);
+        assert!(json.contains("\"watertight\": true"), "{name}: {json}");
+        assert!(path.exists());
+    }
+}

@@ -285,3 +285,32 @@ fn sigterm_exits_143_and_keeps_the_image() {
     assert!(!err.contains("depth"), "no --depth was asked for: {err}");
     image::open(&png).expect("partial PNG decodes");
 }
+
+/// `tracer mesh` stopped by Ctrl-C exits with 130 promptly and leaves no file, neither
+/// the mesh nor its temporary file.
+#[test]
+fn mesh_interrupted_leaves_no_file() {
+    let dir = tmp("mesh");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let ply = dir.join("gyroid.ply");
+    // A gyroid at depth 9: hundreds of thousands of surface cells, far past the signal.
+    let args = [
+        "mesh",
+        "--expr",
+        "0.3 - abs(sin(8*x)*cos(8*y) + sin(8*y)*cos(8*z) + sin(8*z)*cos(8*x))",
+        "--domain",
+        "-1,-1,-1,1,1,1",
+        "--depth",
+        "9",
+        "--out",
+        ply.to_str().unwrap(),
+    ];
+    let out = interrupt(&args, Duration::from_millis(800));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(130), "stderr: {err}");
+    assert!(err.contains("interrupted"), "stderr: {err}");
+    assert!(!err.contains("panicked"), "stderr: {err}");
+    let left: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
+    assert!(left.is_empty(), "files left behind: {left:?}");
+}

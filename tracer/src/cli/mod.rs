@@ -3,6 +3,7 @@
 //! flags select, the terminal progress bar, and the previewer's command and window.
 
 pub mod gpu_window;
+pub mod mesh;
 pub mod preview;
 pub mod window;
 
@@ -341,10 +342,14 @@ pub struct Bar {
 impl Bar {
     /// A bar that shows itself where stderr is a terminal.
     pub fn new() -> Bar {
+        Bar::with_unit("tiles")
+    }
+
+    /// [`Bar::new`] counting `unit` (`tiles`, `parts`) instead of tiles.
+    pub fn with_unit(unit: &str) -> Bar {
         let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::hidden());
-        if let Ok(style) =
-            ProgressStyle::with_template("{bar:40} {pos}/{len} tiles, {elapsed} (left {eta})")
-        {
+        let template = format!("{{bar:40}} {{pos}}/{{len}} {unit}, {{elapsed}} (left {{eta}})");
+        if let Ok(style) = ProgressStyle::with_template(&template) {
             bar.set_style(style);
         }
         Bar {

@@ -36,7 +36,10 @@ fn the_bear_takes_hull_and_loses_its_wall() {
     // RevAA's wall adds hits where Hull finds none; every Hull hit is one of RevAA's
     // too (both never miss a root).
     assert!(hull.hits < revaa.hits, "{revaa:?} {hull:?}");
-    assert!(hull.unconfirmed * 10 < revaa.unconfirmed, "{revaa:?} {hull:?}");
+    assert!(
+        hull.unconfirmed * 10 < revaa.unconfirmed,
+        "{revaa:?} {hull:?}"
+    );
 }
 
 #[test]

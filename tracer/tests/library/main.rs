@@ -7,6 +7,7 @@ mod culling_invariance;
 mod expr;
 mod ground_truth;
 mod hyperfun;
+mod mesh;
 mod model_files;
 mod progressive_engine;
 mod progressive_noise;
