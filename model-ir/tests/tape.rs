@@ -189,7 +189,11 @@ fn batches_match_single_evaluations() {
         prop_assert_eq!(out.len(), ins.len());
         for (o, [x, y, z]) in out.iter().zip(ins) {
             let (a, b) = (o.bounds(), t.eval(x, y, z).bounds());
-            prop_assert!(same(a.0, b.0) && same(a.1, b.1), "{}: {a:?} vs {b:?}", R::NAME);
+            prop_assert!(
+                same(a.0, b.0) && same(a.1, b.1),
+                "{}: {a:?} vs {b:?}",
+                R::NAME
+            );
         }
         Ok(())
     }
