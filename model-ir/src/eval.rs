@@ -202,7 +202,7 @@ mod tests {
             r(&mut b, Op::Z, 0, 0),
         );
         let mut acc = Vec::new();
-        for op in ALL_OPS {
+        for op in Op::ALL {
             let v = match op.arity() {
                 0 => continue,
                 1 => r(&mut b, op, x, 0),
@@ -223,53 +223,12 @@ mod tests {
         b.finish(Val::R(sum))
     }
 
-    const ALL_OPS: [Op; 35] = {
-        use Op::*;
-        [
-            X,
-            Y,
-            Z,
-            Const,
-            Neg,
-            Sqr,
-            Powi,
-            Sqrt,
-            Recip,
-            Exp,
-            Ln,
-            Sin,
-            Cos,
-            Abs,
-            AddC,
-            SubC,
-            RSubC,
-            MulC,
-            DivC,
-            RDivC,
-            Add,
-            Sub,
-            Mul,
-            Div,
-            Hypot,
-            Min,
-            Max,
-            Intersect,
-            Union,
-            Subtract,
-            BlendUnion,
-            BlendIntersect,
-            Gt0,
-            Ge0,
-            Select,
-        ]
-    };
-
     /// The `f64` fast path and the generic interpreter agree bit for bit on every op.
     #[test]
     fn point_path_matches_generic_path() {
         let t = every_op();
         let ops: std::collections::HashSet<Op> = t.instructions().iter().map(|i| i.op).collect();
-        assert_eq!(ops.len(), ALL_OPS.len(), "every op is exercised:\n{t}");
+        assert_eq!(ops.len(), Op::ALL.len(), "every op is exercised:\n{t}");
         for &(x, y, z) in &[
             (0.3, -0.7, 1.1),
             (-1.9, 0.25, 0.4),

@@ -83,6 +83,48 @@ pub enum Op {
 }
 
 impl Op {
+    /// Every instruction.
+    pub const ALL: [Op; 35] = {
+        use Op::*;
+        [
+            X,
+            Y,
+            Z,
+            Const,
+            Neg,
+            Sqr,
+            Powi,
+            Sqrt,
+            Recip,
+            Exp,
+            Ln,
+            Sin,
+            Cos,
+            Abs,
+            AddC,
+            SubC,
+            RSubC,
+            MulC,
+            DivC,
+            RDivC,
+            Add,
+            Sub,
+            Mul,
+            Div,
+            Hypot,
+            Min,
+            Max,
+            Intersect,
+            Union,
+            Subtract,
+            BlendUnion,
+            BlendIntersect,
+            Gt0,
+            Ge0,
+            Select,
+        ]
+    };
+
     /// Number of register operands.
     pub fn arity(self) -> usize {
         use Op::*;
