@@ -218,3 +218,34 @@ fn batches_match_single_evaluations() {
         },
     );
 }
+
+/// Steps and selections over ranges and dual numbers (`arith_core::branch`, evaluated
+/// by the tape's `Gt0`, `Ge0` and `Select`): decided where the range lies on one side,
+/// `[0, 1]` or the hull of both branches where it does not, and a dual number's
+/// gradient the whole line where the step may jump.
+#[test]
+fn branches_over_ranges_and_duals() {
+    use arith_core::branch::Step;
+    use arith_core::dual::Dual;
+    let r = |lo, hi| Interval::from_interval(lo, hi);
+    assert_eq!(r(0.0, 1.0).step(Step::Pos).bounds(), (0.0, 1.0));
+    assert_eq!(r(0.0, 1.0).step(Step::NonNeg).bounds(), (1.0, 1.0));
+    assert_eq!(r(-1.0, 0.0).step(Step::Pos).bounds(), (0.0, 0.0));
+    assert_eq!(r(-1.0, 0.0).step(Step::NonNeg).bounds(), (0.0, 1.0));
+    let sel = |c: Interval| c.select(r(2.0, 3.0), r(5.0, 6.0)).bounds();
+    assert_eq!(sel(r(1.0, 1.0)), (2.0, 3.0));
+    assert_eq!(sel(r(0.0, 0.0)), (5.0, 6.0));
+    assert_eq!(sel(r(0.0, 1.0)), (2.0, 6.0));
+    let xi = Dual::var(r(-1.0, 1.0), 0);
+    let si = xi.step(Step::Pos);
+    assert_eq!(si.v.bounds(), (0.0, 1.0));
+    assert_eq!(si.g[0].bounds(), (f64::NEG_INFINITY, f64::INFINITY));
+    let ti = si.select(xi.clone() * 2.0, xi.clone() * 3.0);
+    assert_eq!(ti.v.bounds(), (-3.0, 3.0));
+    assert_eq!(ti.g[1].bounds(), (f64::NEG_INFINITY, f64::INFINITY));
+    // The same through a tape: `if(x > 0, 2x, 3x)` over [-1, 1].
+    let t = Tape::record(|x, _, _| x.step(Step::Pos).select(x * 2.0, x * 3.0));
+    let v = t.eval(r(-1.0, 1.0), r(0.0, 0.0), r(0.0, 0.0));
+    assert_eq!(v.bounds(), (-3.0, 3.0));
+    assert_eq!(t.eval(0.5_f64, 0.0, 0.0), 1.0);
+}

@@ -38,6 +38,19 @@ pub fn compile(p: &Program) -> Result<Tape, CompileError> {
     Ok(b.finish(out))
 }
 
+/// `Ok` when `f` is called with as many arguments as it takes.
+fn check_arity(f: Func, args: &[Expr]) -> Result<(), CompileError> {
+    if args.len() == f.arity() {
+        return Ok(());
+    }
+    Err(CompileError(format!(
+        "{} takes {} argument(s), not {}",
+        f.name(),
+        f.arity(),
+        args.len()
+    )))
+}
+
 /// The builder's operator for a formula's.
 fn bin(op: BinOp) -> Bin {
     match op {
@@ -91,14 +104,7 @@ fn expr(bd: &mut Builder, e: &Expr, binds: &[Val]) -> Result<Val, CompileError> 
             if f.arity() > 2
                 || matches!(f, Func::Not | Func::BlendUnion | Func::BlendIntersect) =>
         {
-            if args.len() != f.arity() {
-                return Err(CompileError(format!(
-                    "{} takes {} argument(s), not {}",
-                    f.name(),
-                    f.arity(),
-                    args.len()
-                )));
-            }
+            check_arity(*f, args)?;
             let mut v = Vec::with_capacity(args.len());
             for a in args {
                 v.push(expr(bd, a, binds)?);
@@ -122,14 +128,7 @@ fn expr(bd: &mut Builder, e: &Expr, binds: &[Val]) -> Result<Val, CompileError> 
             }
         }
         Expr::Call(f, args) => {
-            if args.len() != f.arity() {
-                return Err(CompileError(format!(
-                    "{} takes {} argument(s), not {}",
-                    f.name(),
-                    f.arity(),
-                    args.len()
-                )));
-            }
+            check_arity(*f, args)?;
             let v = expr(bd, &args[0], binds)?;
             match f {
                 Func::Min | Func::Max => {
