@@ -124,14 +124,30 @@ pub struct Clipped<'a, S> {
     pub domain: Aabb,
 }
 
-impl<S: Shape> Shape for Clipped<'_, S> {
-    fn eval<R: Real>(&self, x: R, y: R, z: R) -> R {
+impl<S> Clipped<'_, S> {
+    /// The distance-like value of the domain's walls, `>= 0` inside the domain.
+    fn walls<R: Real>(&self, x: &R, y: &R, z: &R) -> R {
         let (lo, hi) = (self.domain.min, self.domain.max);
-        let walls = (x.clone() - lo.x)
+        (x.clone() - lo.x)
             .min(&x.clone().rsub(hi.x))
             .min(&(y.clone() - lo.y).min(&y.clone().rsub(hi.y)))
-            .min(&(z.clone() - lo.z).min(&z.clone().rsub(hi.z)));
+            .min(&(z.clone() - lo.z).min(&z.clone().rsub(hi.z)))
+    }
+}
+
+impl<S: Shape> Shape for Clipped<'_, S> {
+    fn eval<R: Real>(&self, x: R, y: R, z: R) -> R {
+        let walls = self.walls(&x, &y, &z);
         self.inner.eval(x, y, z).min(&walls)
+    }
+
+    /// The inner shape's batch (instruction-major for a tape), each lane then clipped
+    /// exactly as [`Clipped::eval`] clips it.
+    fn eval_batch<R: Real>(&self, x: &[R], y: &[R], z: &[R], out: &mut Vec<R>) {
+        self.inner.eval_batch(x, y, z, out);
+        for (((f, x), y), z) in out.iter_mut().zip(x).zip(y).zip(z) {
+            *f = f.min(&self.walls(x, y, z));
+        }
     }
 
     fn packs(&self) -> bool {

@@ -27,6 +27,7 @@
 use super::certificate::certified;
 use super::consistency::finer_topology;
 use super::grid::{corner_of, Clipped, Grid};
+use crate::search::batch::Batch;
 use crate::shape::{Aabb, Shape};
 use arith_core::{Arithmetic, Range};
 use rayon::prelude::*;
@@ -161,17 +162,24 @@ impl<S: Shape> Octree<'_, S> {
         corner_mask(self.shape, &self.domain, &self.grid, level, c)
     }
 
+    /// Visits cell `c` at `level` (the top of a task's subtree).
     fn node<A: Arithmetic>(&self, shape: &S, level: u32, c: [u32; 3], d: &mut Descent) {
         if d.cancelled || self.cancelled() {
             d.cancelled = true;
             return;
         }
-        let b = self.grid.cell_box(level, c);
         d.visited += 1;
-        if !self.may_cross::<A>(shape, &b) {
+        if !self.may_cross::<A>(shape, &self.grid.cell_box(level, c)) {
             d.pruned += 1;
             return;
         }
+        self.crossing::<A>(shape, level, c, d);
+    }
+
+    /// A cell whose range holds 0: a leaf is kept or probed, any other cell's eight
+    /// children are evaluated in one batch ([`Batch`]) and those whose range holds 0
+    /// visited in turn.
+    fn crossing<A: Arithmetic>(&self, shape: &S, level: u32, c: [u32; 3], d: &mut Descent) {
         if level == self.level {
             let m = self.corner_mask(level, c, d);
             if crosses(m) {
@@ -183,13 +191,35 @@ impl<S: Shape> Octree<'_, S> {
             }
             return;
         }
+        let b = self.grid.cell_box(level, c);
         let special = (level.checked_rem(SPECIALISE_EVERY) == Some(0) && shape.specialises())
             .then(|| shape.specialise(&[cell_inputs::<A::Cell>(&b)]))
             .flatten();
         d.specialised += special.is_some() as u64;
         let sub = special.as_ref().unwrap_or(shape);
-        for i in 0..8 {
-            self.node::<A>(sub, level + 1, child(c, i), d);
+        let kids: [[u32; 3]; 8] = core::array::from_fn(|i| child(c, i));
+        let clipped = Clipped {
+            inner: sub,
+            domain: self.domain,
+        };
+        let mut ranges: [Option<A::Cell>; 8] = Default::default();
+        Batch::<A::CellPack>::default().eval(
+            &clipped,
+            &[0, 1, 2, 3, 4, 5, 6, 7],
+            |i| cell_inputs(&self.grid.cell_box(level + 1, kids[i])),
+            &mut ranges,
+        );
+        for (k, f) in kids.into_iter().zip(ranges) {
+            if d.cancelled || self.cancelled() {
+                d.cancelled = true;
+                return;
+            }
+            d.visited += 1;
+            if !f.is_some_and(|f| f.contains_zero()) {
+                d.pruned += 1;
+                continue;
+            }
+            self.crossing::<A>(sub, level + 1, k, d);
         }
     }
 

@@ -8,6 +8,7 @@ pub mod auto_arith;
 pub mod bspline_filter;
 pub mod output;
 pub mod shade;
+mod shade_hits;
 pub mod tile_shapes;
 pub mod value_tree;
 
@@ -15,21 +16,18 @@ use crate::arith::ArithKind;
 use crate::camera::Camera;
 use crate::models::Model;
 use crate::search::cull::{CullStats, Culler};
-use crate::search::ray::{
-    clip, clip_with, first_root, first_roots_until, Precision, RayJob, RayParams, RayStats, Start,
-};
+use crate::search::ray::{clip_with, first_roots_until, Precision, RayJob, RayParams, Start};
 use crate::search::windows::Windows;
 use crate::shape::{check_domain, Aabb, Shape, View};
 use arith_core::Arithmetic;
-use arith_ia::Interval;
 use glam::DVec3;
 use rayon::prelude::*;
 use shade::{Light, Material};
+use shade_hits::{shade_hits, SHADE_BOX, SHADING_STEP};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 use tile_shapes::{tile_shapes, TileShapes};
-use value_tree::ValueTree;
 
 /// Follows a render's progress: told the number of tiles, then each finished tile (from
 /// any of the worker threads), then the end.
@@ -268,6 +266,42 @@ struct TileOut {
     cut: bool,
 }
 
+impl TileOut {
+    /// `n` pixels of background.
+    fn background(opts: &RenderOptions, n: usize) -> Self {
+        TileOut {
+            rgb: opts.background.repeat(n),
+            depth: vec![f32::INFINITY; n],
+            stats: RenderStats::default(),
+            cut: false,
+        }
+    }
+}
+
+/// What every tile of a render shares.
+struct TileCtx<'a, S> {
+    /// The whole shape (shading and shadows reach outside a tile's rays).
+    root: &'a S,
+    opts: &'a RenderOptions,
+    cam: &'a Camera,
+    culler: &'a Culler,
+    params: &'a RayParams,
+    light: &'a Light,
+    /// The domain's diagonal.
+    scale: f64,
+}
+
+/// The rays of a tile left to search after culling.
+struct TileRays<S> {
+    jobs: Vec<RayJob>,
+    /// The pixel (index in the tile) of each job.
+    pixel_of: Vec<usize>,
+    /// The cells' depth windows the jobs refer to (job shape `k` is `locals[k - 1]`).
+    locals: Vec<Arc<Windows<S>>>,
+    /// Rays culling handed out (some then miss the domain).
+    traced: u64,
+}
+
 /// Renders `shape` in the arithmetic `A`. Errors, before allocating anything, on a
 /// degenerate view, size ([`crate::camera::check_size`]), precision or domain.
 pub fn render<A: Arithmetic, S: Shape>(
@@ -330,6 +364,15 @@ pub fn render<A: Arithmetic, S: Shape>(
                 .is_some_and(|c| c.load(Ordering::Relaxed))
     };
 
+    let ctx = TileCtx {
+        root: shape,
+        opts,
+        cam: &cam,
+        culler: &culler,
+        params: &params,
+        light: &light,
+        scale,
+    };
     let outs: Vec<Option<TileOut>> = tiles
         .par_iter()
         .enumerate()
@@ -337,18 +380,7 @@ pub fn render<A: Arithmetic, S: Shape>(
             if stop() {
                 return None;
             }
-            let out = render_tile::<A, S>(
-                shape,
-                per_tile.get(k),
-                opts,
-                &cam,
-                &culler,
-                &params,
-                &light,
-                scale,
-                rect,
-                &stop,
-            );
+            let out = render_tile::<A, S>(&ctx, per_tile.get(k), rect, &stop);
             if let Some(p) = &opts.progress {
                 p.tile_done();
             }
@@ -425,48 +457,6 @@ pub(crate) fn checked_camera(opts: &RenderOptions) -> Result<Camera, String> {
     Ok(cam)
 }
 
-/// The least step of the normals' central differences, per unit of the domain's
-/// diagonal (the step is otherwise the precision at the hit).
-const SHADING_STEP: f64 = 1e-7;
-
-/// Hits shaded with one shape specialised to the box of their samples: more share one
-/// evaluation of the whole shape over the box, fewer make the box (and the shape) small.
-const SHADE_GROUP: usize = 16;
-
-/// Hits whose shape for shading is specialised once, for their groups to start from.
-const SHADE_BLOCK: usize = 256;
-
-/// The widest box (in sample steps) a group of hits is shaded in.
-const SHADE_BOX: f64 = 16.0;
-
-/// The box of the shading samples ([`shade::samples`]) of some hits: exactly the least
-/// and greatest of their rounded coordinates, so every sample lies in it.
-#[derive(Clone, Copy)]
-struct SampleBox {
-    lo: DVec3,
-    hi: DVec3,
-}
-
-impl SampleBox {
-    const EMPTY: SampleBox = SampleBox {
-        lo: DVec3::INFINITY,
-        hi: DVec3::NEG_INFINITY,
-    };
-
-    /// This box and the samples of a hit at `p` with step `h`.
-    fn with(self, (p, h): (DVec3, f64)) -> SampleBox {
-        shade::samples(p, h).iter().fold(self, |b, &q| SampleBox {
-            lo: b.lo.min(q),
-            hi: b.hi.max(q),
-        })
-    }
-
-    /// Its sides as intervals.
-    fn ranges(&self) -> [Interval; 3] {
-        tile_shapes::ranges(&Aabb::new(self.lo, self.hi))
-    }
-}
-
 /// [`render`] with the arithmetic chosen at run time.
 pub fn render_kind<S: Shape>(
     kind: ArithKind,
@@ -476,34 +466,75 @@ pub fn render_kind<S: Shape>(
     crate::with_arith!(kind, A => render::<A, S>(shape, opts))
 }
 
-#[allow(clippy::too_many_arguments)]
+/// Renders the tile `rect` (pixels `[i0, i1) x [j0, j1)`): culling hands out the rays
+/// to search ([`tile_rays`]), which are searched in lock-step ([`first_roots_until`],
+/// stopping early, keeping what it found, when `stop` says so; the rays left are
+/// background), and the hits shaded ([`shade_hits`]). `mine` are the tile's
+/// specialised shapes.
 fn render_tile<A: Arithmetic, S: Shape>(
-    root: &S,
+    ctx: &TileCtx<'_, S>,
     mine: Option<&TileShapes<S>>,
-    opts: &RenderOptions,
-    cam: &Camera,
-    culler: &Culler,
-    params: &RayParams,
-    light: &Light,
-    scale: f64,
     rect: (u32, u32, u32, u32),
     stop: &(dyn Fn() -> bool + Sync),
 ) -> TileOut {
-    // The tile's own shape for the search; shading and shadows reach outside the tile's
-    // rays and start from the whole one.
-    let shape = mine.and_then(|m| m.search.as_deref()).unwrap_or(root);
+    let shape = mine.and_then(|m| m.search.as_deref()).unwrap_or(ctx.root);
+    let (i0, j0, i1, j1) = rect;
+    let mut out = TileOut::background(ctx.opts, ((i1 - i0) * (j1 - j0)) as usize);
+    let mut cs = CullStats::default();
+    let rays = tile_rays::<A, S>(ctx, shape, rect, &mut cs);
+    let st = &mut out.stats;
+    st.rays += rays.traced;
+    let windows: Vec<&Windows<S>> = rays.locals.iter().map(|l| &**l).collect();
+    let mut hits: Vec<(usize, f64)> = Vec::new();
+    let all = first_roots_until::<A, S>(
+        shape,
+        &windows,
+        ctx.params,
+        &rays.jobs,
+        stop,
+        |ray, hit, rs| {
+            st.range_evals += rs.range_evals;
+            st.range_ops += rs.range_ops;
+            st.pruned_empty += rs.pruned_empty;
+            st.point_evals += rs.point_evals;
+            if let Some(t) = hit {
+                st.hits += 1;
+                st.range_evals_hit += rs.range_evals;
+                hits.push((ray, t));
+            }
+        },
+    );
+    out.cut = !all;
+    shade_hits::<A, S>(ctx, shape, mine, &rays, &mut hits, &mut out);
+    // The fine depth windows the rays built.
+    for l in &rays.locals {
+        let (evals, ops) = l.take_counts();
+        cs.cells_specialised += evals;
+        cs.cell_ops += ops;
+    }
+    let st = &mut out.stats;
+    st.cell_evals = cs.cells_tested + cs.cells_specialised;
+    st.range_ops += cs.cell_ops;
+    st.cells_culled = cs.cells_culled;
+    st.pixels_culled = cs.pixels_culled;
+    out
+}
+
+/// The rays of the tile `rect` that culling leaves to search (every ray of the tile
+/// without culling), each clipped to the domain and to the depths culling left it, in
+/// the order culling hands them out (cell by cell). Rays are set up four at a time
+/// ([`Camera::rays4`]).
+fn tile_rays<A: Arithmetic, S: Shape>(
+    ctx: &TileCtx<'_, S>,
+    shape: &S,
+    rect: (u32, u32, u32, u32),
+    cs: &mut CullStats,
+) -> TileRays<S> {
     let (i0, j0, i1, j1) = rect;
     let tw = (i1 - i0) as usize;
-    let n = tw * (j1 - j0) as usize;
-    let mut rgb = opts.background.repeat(n);
-    let mut depth = vec![f32::INFINITY; n];
-    let mut st = RenderStats::default();
-    // Rays are collected first (pixel, culling's depths), set up four at a time
-    // ([`Camera::rays4`]), then searched four at a time ([`first_roots_until`], which stops
-    // early, keeping what it found, when `stop` says so).
     // Each ray's shape: 0 the whole one, `k` its cell's depth windows `locals[k - 1]`
     // (rays come cell by cell, so a new one is pushed only when the cell's changes).
-    let mut pending: Vec<(u32, u32, Start, u32)> = Vec::with_capacity(n);
+    let mut pending: Vec<(u32, u32, Start, u32)> = Vec::with_capacity(tw * (j1 - j0) as usize);
     let mut locals: Vec<Arc<Windows<S>>> = Vec::new();
     let mut trace = |i: u32, j: u32, depths: Start, local: Option<&Arc<Windows<S>>>| {
         let k = match local {
@@ -517,9 +548,8 @@ fn render_tile<A: Arithmetic, S: Shape>(
         };
         pending.push((i, j, depths, k));
     };
-    let mut cs = CullStats::default();
-    if opts.culling {
-        culler.traverse::<A, S, _>(shape, rect, &mut cs, &mut trace);
+    if ctx.opts.culling {
+        ctx.culler.traverse::<A, S, _>(shape, rect, cs, &mut trace);
     } else {
         for j in j0..j1 {
             for i in i0..i1 {
@@ -527,212 +557,36 @@ fn render_tile<A: Arithmetic, S: Shape>(
             }
         }
     }
-    let windows: Vec<&Windows<S>> = locals.iter().map(|l| &**l).collect();
-    st.rays += pending.len() as u64;
-    let mut jobs: Vec<RayJob> = Vec::with_capacity(pending.len());
-    let mut pixel_of: Vec<usize> = Vec::with_capacity(pending.len());
+    let mut rays = TileRays {
+        jobs: Vec::with_capacity(pending.len()),
+        pixel_of: Vec::with_capacity(pending.len()),
+        locals,
+        traced: pending.len() as u64,
+    };
     for chunk in pending.chunks(4) {
         let last = chunk.len() - 1;
-        let set = cam.rays4(core::array::from_fn(|l| {
+        let set = ctx.cam.rays4(core::array::from_fn(|l| {
             (chunk[l.min(last)].0, chunk[l.min(last)].1)
         }));
         for (&(i, j, depths, local), &(d, inv, c, ic)) in chunk.iter().zip(&set) {
-            let o = cam.origin_at(i as f64 + 0.5, j as f64 + 0.5);
-            if let Some((start, windowed)) = start_of(o, d, inv, c, ic, depths, &opts.domain) {
+            let o = ctx.cam.origin_at(i as f64 + 0.5, j as f64 + 0.5);
+            let domain = &ctx.opts.domain;
+            if let Some((start, windowed)) = start_of(o, d, inv, c, ic, depths, domain) {
                 // A specialised shape holds only in its cell's depth windows.
                 let shape = if windowed { local } else { 0 };
-                jobs.push(RayJob {
+                rays.jobs.push(RayJob {
                     o,
                     d,
                     start,
                     shape,
                     depth: c,
                 });
-                pixel_of.push((j - j0) as usize * tw + (i - i0) as usize);
+                rays.pixel_of
+                    .push((j - j0) as usize * tw + (i - i0) as usize);
             }
         }
     }
-    let mut hits: Vec<(usize, f64)> = Vec::new();
-    // The rays a stop leaves unfinished are background.
-    let all = first_roots_until::<A, S>(shape, &windows, params, &jobs, stop, |ray, hit, rs| {
-        st.range_evals += rs.range_evals;
-        st.range_ops += rs.range_ops;
-        st.pruned_empty += rs.pruned_empty;
-        st.point_evals += rs.point_evals;
-        if let Some(t) = hit {
-            st.hits += 1;
-            st.range_evals_hit += rs.range_evals;
-            hits.push((ray, t));
-        }
-    });
-    // Shading, in groups of neighbouring hits (rays come cell by cell): each group's
-    // normals from the shape specialised to the box of all their samples, with the
-    // whole shape's values there. Where the tile has value shapes and a level, a group
-    // inside one of its slices first tries the shape folded by level (see
-    // [`Shape::specialise_values`]) of the smallest box of that slice's value tree
-    // ([`ValueTree`]) that holds it: its samples' values are the whole shape's when
-    // they lie within the level, checked hit by hit, else they are evaluated again on
-    // the slice's exact value shape (built then). Without a level a group starts from
-    // the slice's exact shape, and outside every slice from its block's (specialised
-    // over the box of the block's samples when first needed).
-    hits.sort_unstable_by_key(|h| h.0);
-    let by_values = opts.specialise && root.specialises_values();
-    let sample_at = |&(ray, t): &(usize, f64)| {
-        let RayJob { o, d, .. } = jobs[ray];
-        (o + d * t, params.precision.at(t).max(scale * SHADING_STEP))
-    };
-    let block_len = if by_values { SHADE_BLOCK } else { 1 };
-    let values_over = |base: &S, b: &SampleBox, within: f64, st: &mut RenderStats| {
-        st.shade_evals += 1;
-        st.range_ops += base.tape_len().unwrap_or(0) as u64;
-        base.specialise_values(&b.ranges(), within)
-    };
-    let tiled = mine.filter(|m| by_values && m.slices() > 0);
-    let within = tiled.map_or(f64::INFINITY, |_| {
-        probe_level(shape, hits.iter().take(LEVEL_PROBES).map(sample_at))
-    });
-    let mut trees: Vec<Option<ValueTree<S>>> =
-        (0..tiled.map_or(0, |m| m.slices())).map(|_| None).collect();
-    let mut at: Vec<(DVec3, f64)> = Vec::with_capacity(SHADE_GROUP);
-    for block in hits.chunks(block_len) {
-        let mut block_shape: Option<Option<S>> = None;
-        let mut rest = block;
-        while !rest.is_empty() {
-            // A group: up to SHADE_GROUP hits whose samples fit in a box a few steps wide
-            // (a depth jump starts a new one).
-            let mut b = SampleBox::EMPTY;
-            at.clear();
-            for hit in rest.iter().take(SHADE_GROUP) {
-                let (p, h) = sample_at(hit);
-                let wider = b.with((p, h));
-                if !at.is_empty() && (wider.hi - wider.lo).max_element() > SHADE_BOX * h {
-                    break;
-                }
-                b = wider;
-                at.push((p, h));
-            }
-            let (group, next) = rest.split_at(at.len());
-            rest = next;
-            let slice = tiled.and_then(|m| Some((m, m.slice_for(b.lo, b.hi)?)));
-            // The group's exact shape and, where the tile has a level, the one folded
-            // by it; the exact one is then built only when a sample needs it.
-            let (exact, level): (Option<&S>, Option<&S>) = match slice {
-                Some((m, k)) if within < f64::INFINITY => {
-                    let tree = trees[k].get_or_insert_with(|| {
-                        let bx = m.slice_box(k).expect("slice_for gives slices with points");
-                        ValueTree::new(root, *bx, within)
-                    });
-                    (None, Some(tree.at(root, b.lo, b.hi)))
-                }
-                Some((m, k)) => (Some(m.values_in(root, k)), None),
-                None if by_values => (
-                    Some(
-                        block_shape
-                            .get_or_insert_with(|| {
-                                let mut bb = SampleBox::EMPTY;
-                                block.iter().for_each(|hit| bb = bb.with(sample_at(hit)));
-                                values_over(root, &bb, f64::INFINITY, &mut st)
-                            })
-                            .as_ref()
-                            .unwrap_or(root),
-                    ),
-                    None,
-                ),
-                None => (Some(root), None),
-            };
-            let fast = level.map(|l| (l, values_over(l, &b, within, &mut st)));
-            let fast = fast.as_ref().map(|(l, f)| f.as_ref().unwrap_or(l));
-            let mut slow: Option<Option<S>> = None;
-            for (&(ray, t), &(p, step)) in group.iter().zip(&at) {
-                let (k, d) = (pixel_of[ray], jobs[ray].d);
-                depth[k] = t as f32;
-                st.point_evals += 6;
-                let quick = fast
-                    .map(|f| shade::sample_values(f, p, step))
-                    .filter(|s| s.iter().all(|v| v.abs() < within));
-                let s = match quick {
-                    Some(s) => s,
-                    None => {
-                        if fast.is_some() {
-                            st.point_evals += 6;
-                        }
-                        let exact = exact
-                            .unwrap_or_else(|| slice.map_or(root, |(m, k)| m.values_in(root, k)));
-                        let e = match slow {
-                            Some(ref e) => e,
-                            None if by_values => {
-                                slow.insert(values_over(exact, &b, f64::INFINITY, &mut st))
-                            }
-                            None => slow.insert(None),
-                        };
-                        shade::sample_values(e.as_ref().unwrap_or(exact), p, step)
-                    }
-                };
-                let (n, confirmed) = shade::normal_of_samples(&s);
-                if !confirmed {
-                    st.unconfirmed += 1;
-                }
-                let mut in_shadow = false;
-                if opts.shadows {
-                    in_shadow =
-                        shadowed::<A, S>(root, p, n, light, opts, params, scale, step, &mut st);
-                }
-                let c = shade::shade(n, d, light, &opts.material, in_shadow);
-                rgb[k * 3..k * 3 + 3].copy_from_slice(&c);
-            }
-        }
-    }
-    for t in trees.iter_mut().flatten() {
-        let (folds, ops) = t.take_counts();
-        st.shade_evals += folds;
-        st.range_ops += ops;
-    }
-    // The fine depth windows the rays built.
-    for l in &locals {
-        let (evals, ops) = l.take_counts();
-        cs.cells_specialised += evals;
-        cs.cell_ops += ops;
-    }
-    st.cell_evals = cs.cells_tested + cs.cells_specialised;
-    st.range_ops += cs.cell_ops;
-    st.cells_culled = cs.cells_culled;
-    st.pixels_culled = cs.pixels_culled;
-    TileOut {
-        rgb,
-        depth,
-        stats: st,
-        cut: !all,
-    }
-}
-
-/// Hits of a tile whose samples set its shading level (see [`probe_level`]).
-const LEVEL_PROBES: usize = 8;
-
-/// How far above the largest sample value of the probed hits the level lies.
-const LEVEL_MARGIN: f64 = 4.0;
-
-/// The level for the tile's folded value shapes: [`LEVEL_MARGIN`] times the largest
-/// value at the samples of `probes` (hits, with their sample step) of `shape`, the
-/// tile's search shape; `inf` (no folding) where they are all 0 or not finite. Any level
-/// is sound (values outside it are evaluated again exactly); one that holds most
-/// samples lets the folded shapes be short. The search shape keeps its sign, not its
-/// value, but near a root what it keeps is the primitives that make the surface there,
-/// which is all a level needs, and it is far shorter than the whole shape (building
-/// the tile's exact value shapes to probe them cost a quarter of a 10000-ball render).
-fn probe_level<S: Shape>(shape: &S, probes: impl Iterator<Item = (DVec3, f64)>) -> f64 {
-    let mut top = 0.0f64;
-    for (p, h) in probes {
-        for v in shade::sample_values(shape, p, h) {
-            if v.is_finite() {
-                top = top.max(v.abs());
-            }
-        }
-    }
-    if top > 0.0 {
-        LEVEL_MARGIN * top
-    } else {
-        f64::INFINITY
-    }
+    rays
 }
 
 /// Where to search the ray `o + t d` (`inv = d.recip()`, `c = d . forward`,
@@ -783,46 +637,4 @@ fn start_of(
         },
         windowed,
     ))
-}
-
-/// Whether the segment from just off the surface at `p` towards the light holds a root.
-#[allow(clippy::too_many_arguments)]
-fn shadowed<A: Arithmetic, S: Shape>(
-    shape: &S,
-    p: DVec3,
-    n: Option<DVec3>,
-    light: &Light,
-    opts: &RenderOptions,
-    params: &RayParams,
-    scale: f64,
-    step: f64,
-    st: &mut RenderStats,
-) -> bool {
-    let l = light.dir;
-    // Leave the surface on the light's side, far enough that the surface itself is not
-    // found again.
-    let off = (8.0 * step).max(scale * 1e-4);
-    let side = match n {
-        Some(n) if n.dot(l) < 0.0 => -n,
-        Some(n) => n,
-        None => l,
-    };
-    let start = p + side * off;
-    st.shadow_rays += 1;
-    let Some((t0, t1)) = clip(start, l, &opts.domain, off) else {
-        return false;
-    };
-    let mut rs = RayStats::default();
-    let sp = RayParams {
-        precision: Precision {
-            abs: params.precision.at(0.0).max(step),
-            rel: 0.0,
-        },
-        pruning: params.pruning,
-    };
-    let hit = first_root::<A, S>(shape, start, l, Start::whole(t0, t1), &sp, &mut rs).is_some();
-    st.range_evals += rs.range_evals;
-    st.range_ops += rs.range_evals * shape.tape_len().unwrap_or(0) as u64;
-    st.point_evals += rs.point_evals;
-    hit
 }

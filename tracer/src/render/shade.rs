@@ -89,6 +89,41 @@ pub fn sample_values<S: Shape + ?Sized>(shape: &S, p: DVec3, h: f64) -> [f64; 6]
     samples(p, h).map(|q| shape.eval::<f64>(q.x, q.y, q.z))
 }
 
+/// Buffers for evaluating the [`samples`] of many points in one batch
+/// ([`Shape::eval_batch`]: for a tape, each instruction over every sample before the
+/// next), reused from one batch to the next.
+#[derive(Default)]
+pub struct Samples {
+    xyz: [Vec<f64>; 3],
+    values: Vec<f64>,
+}
+
+impl Samples {
+    /// The shape's values at the samples of each `(p, h)` of `at` (point, step), in
+    /// order: each exactly [`sample_values`] of it.
+    pub fn values<'s, S: Shape + ?Sized>(
+        &'s mut self,
+        shape: &S,
+        at: impl IntoIterator<Item = (DVec3, f64)>,
+    ) -> impl ExactSizeIterator<Item = [f64; 6]> + 's {
+        for v in &mut self.xyz {
+            v.clear();
+        }
+        for (p, h) in at {
+            for q in samples(p, h) {
+                self.xyz[0].push(q.x);
+                self.xyz[1].push(q.y);
+                self.xyz[2].push(q.z);
+            }
+        }
+        let [x, y, z] = &self.xyz;
+        shape.eval_batch(x, y, z, &mut self.values);
+        self.values
+            .chunks_exact(6)
+            .map(|c| c.try_into().expect("six samples a point"))
+    }
+}
+
 /// [`normal_and_sign_change`] from the values at the samples.
 pub fn normal_of_samples(s: &[f64; 6]) -> (Option<DVec3>, bool) {
     let g = DVec3::new(s[0] - s[1], s[2] - s[3], s[4] - s[5]);

@@ -14,10 +14,11 @@
 //! for the orthographic bundle (no product terms).
 
 use crate::camera::Camera;
+use crate::search::batch::{Batch, Groups};
 use crate::search::ray::{Pruner, Start};
 use crate::search::windows::{Refine, Windows};
 use crate::shape::{Aabb, Shape};
-use arith_core::pack::{Pack, LANES};
+use arith_core::pack::LANES;
 use arith_core::round::{up_finite, ETA, U};
 use arith_core::{Arithmetic, Range};
 use glam::DVec3;
@@ -151,6 +152,9 @@ pub struct Culler {
     /// Whether kept cells specialise the shape to their region.
     specialise: bool,
 }
+
+/// Narrowings in flight at once in [`Culler::traverse`] (a multiple of [`LANES`]).
+pub const CULL_SLOTS: usize = 8 * LANES;
 
 /// Most box evaluations of one beam narrowing pass (each direction); past it the
 /// narrowing stops where it is (sound: only proved slices are cut away).
@@ -349,12 +353,14 @@ impl Culler {
     /// (see the module doc) `[t0, split]` is where the ray's roots in the cell's slice
     /// can be, or, without one, the first two slices its cell could not prove root-free.
     ///
-    /// Cells waiting for their narrowing are kept on a stack, and up to four are narrowed
-    /// at once: each step evaluates the slices asked for by four narrowings in one
-    /// [`Arithmetic::CellPack`] evaluation (each lane exactly the scalar cell form's
-    /// range; one by one for a shape that does not [pack](Shape::packs)), and a finished narrowing's slot takes the next cell. A cell depends only on
-    /// its parent's narrowing, so the cells dropped and the depths handed to rays are
-    /// those of a depth-first visit; only the order in which rays are handed out differs.
+    /// Cells waiting for their narrowing are kept on a stack, and up to [`CULL_SLOTS`]
+    /// are narrowed at once: each step evaluates the slices asked for by every narrowing
+    /// in flight, those on one shape in one batch ([`Batch`]: in
+    /// [`Arithmetic::CellPack`]s, each lane exactly the scalar cell form's range; form by
+    /// form for a shape that does not [pack](Shape::packs)), and a finished narrowing's
+    /// slot takes the next cell. A cell depends only on its parent's narrowing, so the
+    /// cells dropped and the depths handed to rays are those of a depth-first visit;
+    /// only the order in which rays are handed out differs.
     pub fn traverse<
         A: Arithmetic,
         S: Shape,
@@ -376,7 +382,10 @@ impl Culler {
         }
         let mut todo = Vec::with_capacity(64);
         self.enqueue(rect, s, start, None, None, &mut todo, trace);
-        let mut slots: [Option<Slot<A::Cell, S>>; LANES] = Default::default();
+        let mut slots: Vec<Option<Slot<A::Cell, S>>> = (0..CULL_SLOTS).map(|_| None).collect();
+        let mut ranges: Vec<Option<A::Cell>> = (0..CULL_SLOTS).map(|_| None).collect();
+        let mut groups = Groups::default();
+        let mut batch = Batch::<A::CellPack>::default();
         let specialise = self.specialise && shape.specialises();
         loop {
             for slot in slots.iter_mut() {
@@ -400,51 +409,30 @@ impl Culler {
                     }
                 }
             }
-            let Some(first) = slots.iter().position(Option::is_some) else {
-                return;
-            };
-            let shape_of = |k: usize| -> Option<&S> {
+            // Each cell's slice on its own shape: its windows' shape at the depths under
+            // test (siblings share their parent's windows), or the tile's.
+            let shapes: [Option<&S>; CULL_SLOTS] = core::array::from_fn(|k| {
                 let slot = slots[k].as_ref()?;
                 let (t0, t1) = slot.narrowing.t;
                 Some(match &slot.cell.shape {
                     Some(w) => w.at(shape, t0, t1),
                     None => shape,
                 })
-            };
-            // One packed evaluation needs one shape for all lanes: the cells' own
-            // (siblings share their parent's), or each cell alone.
-            let first_shape = shape_of(first).map(|s| s as *const S);
-            let shared =
-                (0..LANES).all(|k| shape_of(k).is_none_or(|s| Some(s as *const S) == first_shape));
-            let lead = shape_of(first).expect("an active slot");
-            let alone = slots.iter().flatten().count() == 1;
-            // Lanes without a narrowing repeat the first one's slice (their results are
-            // dropped).
-            let forms_of = |k: usize| {
-                &slots[k]
-                    .as_ref()
-                    .or(slots[first].as_ref())
-                    .expect("an active slot")
-                    .forms
-            };
-            let ranges: [Option<A::Cell>; LANES] = if alone || !shared || !lead.packs() {
-                core::array::from_fn(|k| {
-                    let [x, y, z] = slots[k].as_ref()?.forms.clone();
-                    Some(shape_of(k)?.eval(x, y, z))
-                })
-            } else {
-                let [x, y, z]: [A::CellPack; 3] = core::array::from_fn(|i| {
-                    A::CellPack::pack(core::array::from_fn(|k| forms_of(k)[i].clone()))
-                });
-                lead.eval(x, y, z).unpack().map(Some)
-            };
-            let ops: [u64; LANES] =
-                core::array::from_fn(|k| shape_of(k).and_then(Shape::tape_len).unwrap_or(0) as u64);
-            for (k, f) in ranges.into_iter().enumerate() {
-                let (Some(slot), Some(f)) = (&mut slots[k], f) else {
+            });
+            groups.regroup(&shapes);
+            if groups.is_empty() {
+                return;
+            }
+            let forms = |k: usize| slots[k].as_ref().expect("a grouped slot").forms.clone();
+            for group in groups.iter() {
+                let sh = shapes[group[0]].expect("a grouped slot has a shape");
+                batch.eval(sh, group, forms, &mut ranges);
+                stats.cell_ops += (group.len() * sh.tape_len().unwrap_or(0)) as u64;
+            }
+            for (k, f) in ranges.iter_mut().enumerate() {
+                let (Some(slot), Some(f)) = (&mut slots[k], f.take()) else {
                     continue;
                 };
-                stats.cell_ops += ops[k];
                 match slot.narrowing.feed(f, self, &slot.bundle, stats) {
                     Step::Eval(forms) => slot.forms = forms,
                     Step::Done(res) => {

@@ -5,8 +5,10 @@
 //! progressive-refinement paper's Lipschitz ray casters and automatic Lipschitz bounds,
 //! [`cone`] that paper's Lipschitz cone tracing (eqs. 3-6, Fig. 3), [`cone_range`] the
 //! same cones tested with a range arithmetic over their frustum instead; [`windows`]
-//! holds a cell's shape specialised to slices of its depths.
+//! holds a cell's shape specialised to slices of its depths; [`batch`] evaluates the
+//! ranges that many searches in lock-step ask for in one call.
 
+pub mod batch;
 pub mod cone;
 pub mod cone_range;
 pub mod cull;

@@ -8,9 +8,10 @@
 //! from it (sign-change shortcut, marching from the cell's slice) and their measured effect
 //! are in `docs/algorithm-1-ray.md`.
 
+use crate::search::batch::{Batch, Groups};
 use crate::search::windows::Windows;
 use crate::shape::{Aabb, Shape};
-use arith_core::pack::{Pack, LANES};
+use arith_core::pack::LANES;
 use arith_core::round::ETA;
 use arith_core::{Arithmetic, Range};
 use glam::DVec3;
@@ -595,62 +596,6 @@ struct Slot {
     stats: RayStats,
 }
 
-/// The ranges of the segments of the slots `group` (all on the shape `s`) into
-/// `ranges[k]` for each slot `k` of the group.
-fn eval_group<A: Arithmetic, S: Shape + ?Sized>(
-    s: &S,
-    rays: &[RayJob],
-    slots: &[Option<Slot>],
-    group: &[usize],
-    ranges: &mut [Option<A::Ray>],
-) {
-    let job = |k: usize| {
-        let sl = slots[k].as_ref().expect("a grouped slot is active");
-        (&rays[sl.ray], sl.seg)
-    };
-    if s.packs() && group.len() > 1 {
-        // Four lanes a pack; the last pack repeats its first lane where it has no more
-        // (those results are dropped). `ray_inputs` lane by lane: `t d + o`.
-        let packs = group.len().div_ceil(LANES);
-        let mut xyz: [Vec<A::RayPack>; 3] = Default::default();
-        for p in 0..packs {
-            let lanes: [(&RayJob, (f64, f64)); LANES] = core::array::from_fn(|l| {
-                let k = group.get(p * LANES + l).unwrap_or(&group[p * LANES]);
-                job(*k)
-            });
-            let t = A::RayPack::pack(lanes.map(|(_, (a, b))| A::Ray::input(0, a, b)));
-            for (i, v) in xyz.iter_mut().enumerate() {
-                v.push(
-                    t.clone()
-                        .mul_add_lanes(lanes.map(|(r, _)| r.d[i]), lanes.map(|(r, _)| r.o[i])),
-                );
-            }
-        }
-        let mut out = Vec::with_capacity(packs);
-        s.eval_batch(&xyz[0], &xyz[1], &xyz[2], &mut out);
-        for (p, pack) in out.into_iter().enumerate() {
-            for (l, f) in pack.unpack().into_iter().enumerate() {
-                if let Some(&k) = group.get(p * LANES + l) {
-                    ranges[k] = Some(f);
-                }
-            }
-        }
-    } else {
-        let mut xyz: [Vec<A::Ray>; 3] = Default::default();
-        for &k in group {
-            let (r, (a, b)) = job(k);
-            for (v, c) in xyz.iter_mut().zip(ray_inputs::<A::Ray>(r.o, r.d, a, b)) {
-                v.push(c);
-            }
-        }
-        let mut out = Vec::with_capacity(group.len());
-        s.eval_batch(&xyz[0], &xyz[1], &xyz[2], &mut out);
-        for (&k, f) in group.iter().zip(out) {
-            ranges[k] = Some(f);
-        }
-    }
-}
-
 /// [`first_roots`] that gives up once `stop()` returns true (asked every
 /// [`STOP_EVERY`] evaluation steps: one ray of a loose arithmetic on a long tape can
 /// take seconds). The rays not finished by then are not reported to `done`. Returns
@@ -674,9 +619,8 @@ pub fn first_roots_until<A: Arithmetic, S: Shape + ?Sized>(
     let mut slots: Vec<Option<Slot>> = (0..SLOTS).map(|_| None).collect();
     let mut stacks: Vec<Vec<(f64, f64)>> = (0..SLOTS).map(|_| Vec::with_capacity(64)).collect();
     let mut ranges: Vec<Option<A::Ray>> = (0..SLOTS).map(|_| None).collect();
-    let mut shapes: Vec<Option<&S>> = vec![None; SLOTS];
-    // The active slots grouped by shape: (shape, slots).
-    let mut groups: Vec<(&S, Vec<usize>)> = Vec::new();
+    let mut groups = Groups::default();
+    let mut batch = Batch::<A::RayPack>::default();
     let mut queue = 0..rays.len();
     let mut steps = 0u32;
     loop {
@@ -703,31 +647,23 @@ pub fn first_roots_until<A: Arithmetic, S: Shape + ?Sized>(
                 }
             }
         }
-        for g in groups.iter_mut() {
-            g.1.clear();
-        }
-        let mut active = false;
-        for (k, s) in slots.iter().enumerate() {
-            shapes[k] = s
-                .as_ref()
-                .map(|s| ctx(&rays[s.ray]).shape_on(s.seg.0, s.seg.1));
-            let Some(sh) = shapes[k] else { continue };
-            active = true;
-            match groups.iter_mut().find(|g| core::ptr::addr_eq(g.0, sh)) {
-                Some(g) => g.1.push(k),
-                None => groups.push((sh, vec![k])),
-            }
-        }
-        if !active {
+        let shapes: [Option<&S>; SLOTS] = core::array::from_fn(|k| {
+            let s = slots[k].as_ref()?;
+            Some(ctx(&rays[s.ray]).shape_on(s.seg.0, s.seg.1))
+        });
+        groups.regroup(&shapes);
+        if groups.is_empty() {
             return true;
         }
-        for (sh, group) in &groups {
-            if !group.is_empty() {
-                eval_group::<A, S>(*sh, rays, &slots, group, &mut ranges);
-            }
+        let inputs = |k: usize| {
+            let s = slots[k].as_ref().expect("a grouped slot is active");
+            let r = &rays[s.ray];
+            ray_inputs::<A::Ray>(r.o, r.d, s.seg.0, s.seg.1)
+        };
+        for group in groups.iter() {
+            let sh = shapes[group[0]].expect("a grouped slot has a shape");
+            batch.eval(sh, group, inputs, &mut ranges);
         }
-        // Shapes no slot is on any more (a window left behind) are forgotten.
-        groups.retain(|g| !g.1.is_empty());
         for k in 0..SLOTS {
             let (Some(s), Some(f)) = (slots[k].as_mut(), ranges[k].take()) else {
                 continue;
