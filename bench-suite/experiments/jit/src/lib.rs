@@ -726,7 +726,7 @@ impl Emitter<'_> {
     }
 
     /// arith-ia's `from_dir` on the common path: bounds in order.
-    fn from_dir(&mut self, lo: (Value, Value), hi: (Value, Value)) -> Iv {
+    fn directed(&mut self, lo: (Value, Value), hi: (Value, Value)) -> Iv {
         let ordered = self.cmp(FloatCC::LessThanOrEqual, lo.0, hi.0);
         let ok = self.and(lo.1, hi.1);
         let ok = self.and(ok, ordered);
@@ -739,7 +739,7 @@ impl Emitter<'_> {
     fn ia_add(&mut self, a: Iv, b: Iv) -> Iv {
         let lo = self.add_lo(a.lo, b.lo);
         let hi = self.add_hi(a.hi, b.hi);
-        self.from_dir(lo, hi)
+        self.directed(lo, hi)
     }
 
     fn ia_neg(&mut self, a: Iv) -> Iv {
@@ -763,7 +763,7 @@ impl Emitter<'_> {
         let (l, h) = if c >= 0.0 { (a.lo, a.hi) } else { (a.hi, a.lo) };
         let lo = self.mul_lo(l, cv);
         let hi = self.mul_hi(h, cv);
-        self.from_dir(lo, hi)
+        self.directed(lo, hi)
     }
 
     /// `a / [c, c]` (`div_point`) for a finite nonzero `c`.
@@ -772,7 +772,7 @@ impl Emitter<'_> {
         let (l, h) = if c > 0.0 { (a.lo, a.hi) } else { (a.hi, a.lo) };
         let lo = self.div_lo(l, cv);
         let hi = self.div_hi(h, cv);
-        self.from_dir(lo, hi)
+        self.directed(lo, hi)
     }
 
     /// The product of two intervals: the scalar's corners chosen by the signs (as
@@ -854,7 +854,7 @@ impl Emitter<'_> {
         let ok2 = self.and(ok_lo2, ok_hi2);
         let ok2 = self.or(ok2, some);
         let ok = self.and(ok_lo, ok2);
-        self.from_dir((lo, ok), (hi, ok_hi))
+        self.directed((lo, ok), (hi, ok_hi))
     }
 
     /// `(mig, mag)` of arith-ia.
@@ -882,7 +882,7 @@ impl Emitter<'_> {
         let (mig, mag) = self.mig_mag(a);
         let lo = self.mul_lo(mig, mig);
         let hi = self.mul_hi(mag, mag);
-        self.from_dir(lo, hi)
+        self.directed(lo, hi)
     }
 
     /// `sqrt_enc(x)` on its common path `1e-250 <= x <= 1e300`: `(lo, hi, in range)`.
@@ -920,7 +920,7 @@ impl Emitter<'_> {
         let ok_lo = self.or(ok_lo, lo_le0);
         let ok = self.and(ok_lo, ok_hi);
         let ok = self.or(ok, hi_le0);
-        self.from_dir((lo, ok), (hi, ok))
+        self.directed((lo, ok), (hi, ok))
     }
 
     /// The scalar operation through [`interval_helper`].

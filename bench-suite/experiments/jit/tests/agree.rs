@@ -3,6 +3,8 @@
 //! many random boxes and points (small, large, degenerate, with zero and infinite bounds,
 //! near overflow and underflow).
 
+#![allow(clippy::needless_range_loop)] // lanes of three parallel arrays
+
 use arith_core::Real;
 use arith_ia::Interval;
 use model_ir::{Builder, Instr, Op, Tape, Val};
@@ -147,7 +149,7 @@ fn bear_agrees_on_ray_segments() {
     let n = 2000;
     let mut v: [Vec<Interval>; 3] = Default::default();
     for _ in 0..n {
-        let a = rng.unit() * 6.283;
+        let a = rng.unit() * std::f64::consts::TAU;
         let o = [2.0 * a.cos(), 0.3 * a.sin(), 2.0 * a.sin()];
         let len = (o[0] * o[0] + o[1] * o[1] + o[2] * o[2]).sqrt();
         let t0 = rng.unit() * 3.0;

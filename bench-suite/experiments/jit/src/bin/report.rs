@@ -42,6 +42,7 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
+#[allow(clippy::needless_range_loop)]
 fn main() {
     let t = bear();
     let mut hist: BTreeMap<&str, usize> = BTreeMap::new();
@@ -109,9 +110,7 @@ fn main() {
             let c = [unit(), unit(), unit()].map(|u| u * 1.6 - 0.8);
             let region = c.map(|c| Interval::new(c - w, c + w));
             if let Some(s) = t.specialise(&[region]) {
-                if !by_len.contains_key(&s.len()) {
-                    by_len.insert(s.len(), times(&s));
-                }
+                by_len.entry(s.len()).or_insert_with(|| times(&s));
             }
         }
     }
@@ -123,7 +122,7 @@ fn main() {
     let n = 2000;
     let mut v: [Vec<Interval>; 3] = Default::default();
     for _ in 0..n {
-        let a = unit() * 6.283;
+        let a = unit() * std::f64::consts::TAU;
         let o = [2.0 * a.cos(), 0.3 * a.sin(), 2.0 * a.sin()];
         let len = (o[0] * o[0] + o[1] * o[1] + o[2] * o[2]).sqrt();
         let t0 = unit() * 3.0;
