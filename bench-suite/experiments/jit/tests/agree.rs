@@ -169,9 +169,9 @@ fn bear_agrees_on_ray_segments() {
         assert!(same_interval(out.get(k), one), "lane {k}");
     }
     // The common path is the one mostly taken: the comparison above is of compiled code.
-    // (About 3% of these segments leave it; they start outside the model's box, where
-    // which instruction leaves the common path was not traced. The `tape` bench's 64
-    // segments all stay on it.)
+    // (About 3% of these segments leave it: there the bear's `c / a` of a range holding
+    // 0 is the whole line, and unbounded ranges leave it (`report paths`). The `tape`
+    // bench's 64 segments all stay on it.)
     eprintln!("ray segments: {redone} of {n} lanes redone by the interpreter");
     assert!(
         redone * 10 <= n as u64,

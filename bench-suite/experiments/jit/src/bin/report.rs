@@ -1,6 +1,7 @@
 //! Facts about the JIT on fidget's bear: the instructions of the tape and how many the
 //! JIT compiles inline, compile times (the bear and specialisations of it, by length),
-//! and which instructions send ray segments off the common path.
+//! and, for the first ray segments that leave the common path, the first register with
+//! an infinite or nonzero sub-`2^-960` bound (`report paths` skips the compile times).
 //!
 //! `cargo run --release --bin report`
 
@@ -134,8 +135,7 @@ fn main() {
     }
     let mut culprits: BTreeMap<String, usize> = BTreeMap::new();
     let mut out = Lanes::default();
-    let redone_on = |tp: &Tape, k: usize, out: &mut Lanes| {
-        let j = IntervalJit::new(tp).unwrap();
+    let redone_with = |j: &IntervalJit, k: usize, out: &mut Lanes| {
         let one = |v: &Vec<Interval>| Lanes::from_intervals(&v[k..=k]);
         let before = tape_jit::lanes_redone();
         j.eval(&one(&v[0]), &one(&v[1]), &one(&v[2]), out);
@@ -143,34 +143,35 @@ fn main() {
     };
     let mut lanes_off = 0;
     for k in 0..n {
-        if !redone_on(&t, k, &mut out) {
+        if !redone_with(&ij, k, &mut out) {
             continue;
         }
         lanes_off += 1;
-        if lanes_off > 3 {
+        if lanes_off > 6 {
             continue;
         }
-        // The first instruction whose prefix leaves the common path.
-        let (mut lo, mut hi) = (0, t.len() - 1);
-        while lo < hi {
-            let mid = (lo + hi) / 2;
-            if redone_on(&prefix(&t, mid), k, &mut out) {
-                hi = mid;
-            } else {
-                lo = mid + 1;
-            }
-        }
-        let i = t.instructions()[lo];
-        let val = |r: u32| {
-            let p = prefix(&t, r as usize);
-            p.eval(v[0][k], v[1][k], v[2][k])
+        // The first register (in tape order) with a bound off the common path of the
+        // arithmetic: infinite, or nonzero and below 2^-960 in magnitude.
+        let vals: Vec<Interval> = (0..t.len())
+            .map(|r| prefix(&t, r).eval(v[0][k], v[1][k], v[2][k]))
+            .collect();
+        let off = |b: f64| !b.is_finite() || (b != 0.0 && b.abs() < 1e-289);
+        let Some(r) = vals.iter().position(|x| off(x.lo) || off(x.hi)) else {
+            *culprits.entry("no extreme register".into()).or_default() += 1;
+            continue;
         };
+        let i = t.instructions()[r];
         let args: Vec<String> = i
             .operands()
             .iter()
-            .map(|&o| format!("{:?}", val(i.reg(o))))
+            .map(|&o| format!("{:?}", vals[i.reg(o) as usize]))
             .collect();
-        let key = format!("{} ({})", i.op.name(), args.join(", "));
+        let key = format!(
+            "r{r} = {} ({}) = {:?}",
+            i.op.name(),
+            args.join(", "),
+            vals[r]
+        );
         *culprits.entry(key).or_default() += 1;
         if i.op == Op::X {
             break;
