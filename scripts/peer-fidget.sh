@@ -59,6 +59,7 @@ mkdir -p "$OUT_DIR"
 [ -z "$DOC" ] || mkdir -p "$(dirname "$DOC")"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
+load0=$(cut -d' ' -f1-3 /proc/loadavg)
 now_ns() { date +%s%N; }
 
 for spec in $MODELS; do
@@ -86,9 +87,9 @@ print(repr(2 / s), repr(-1 / (n * s)), repr(2 / s), repr(1 / s))")"
             echo "$name round $r/$ROUNDS: $who" >&2
             t0=$(now_ns)
             if [ "$who" = peer ]; then
-                "${peer_cmd[@]}" 2> "$tmp/$name-peer-$r.err" || { cat "$tmp/$name-peer-$r.err" >&2; exit 1; }
+                /usr/bin/time -f "%U %S" -o "$tmp/$name-peer-$r.cpu" "${peer_cmd[@]}" 2> "$tmp/$name-peer-$r.err" || { cat "$tmp/$name-peer-$r.err" >&2; exit 1; }
             else
-                "${ours_cmd[@]}" > "$tmp/$name-ours-$r.json" 2> "$tmp/$name-ours-$r.err" \
+                /usr/bin/time -f "%U %S" -o "$tmp/$name-ours-$r.cpu" "${ours_cmd[@]}" > "$tmp/$name-ours-$r.json" 2> "$tmp/$name-ours-$r.err" \
                     || { cat "$tmp/$name-ours-$r.err" >&2; exit 1; }
             fi
             t1=$(now_ns)
@@ -118,6 +119,7 @@ print(repr(2 / s), repr(-1 / (n * s)), repr(2 / s), repr(1 / s))")"
     fi
 done
 
+echo "$load0 / $(cut -d' ' -f1-3 /proc/loadavg)" > "$tmp/load"
 fidget_version=$(sed -n 's/^fidget = { version = "\([^"]*\)".*/\1/p' bench-suite/peers/fidget/Cargo.toml)
 cpu=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo 2>/dev/null | head -1)
 cpu="$(nproc) cores (${cpu:-unknown CPU})"
@@ -142,6 +144,8 @@ for spec in specs:
     name, scale, arith = spec.split(":")
     peer_s = [int(read(f"{tmp}/{name}-peer-{r}.ns")) / 1e9 for r in range(1, rounds + 1)]
     ours_s = [int(read(f"{tmp}/{name}-ours-{r}.ns")) / 1e9 for r in range(1, rounds + 1)]
+    cpu = lambda who: med([sum(float(v) for v in read(f"{tmp}/{name}-{who}-{r}.cpu").split()[-2:])
+                           for r in range(1, rounds + 1)])
     peer_render = []
     for r in range(1, rounds + 1):
         m = re.search(r"render ([0-9.]+) ms", read(f"{tmp}/{name}-peer-{r}.err"))
@@ -158,7 +162,8 @@ for spec in specs:
     picked = stats[-1].get("arith", arith)
     rows.append([
         name, scale, f"auto ({picked})" if arith == "auto" else arith,
-        f"{med(peer_s):.2f}", f"{med(ours_s):.2f}", f"{med(ours_s) / med(peer_s):.1f}",
+        f"{med(peer_s):.2f}", f"{med(ours_s):.2f}", f"{med(ours_s) / med(peer_s):.2f}",
+        f"{cpu('ours') / cpu('peer'):.2f}" if cpu('peer') > 0 else "-",
         f"{med(peer_render):.2f}", f"{med(ours_render):.2f}",
         f"{cmp['peer_hits'] / px:.4f}", f"{cmp['our_hits'] / px:.4f}",
         f"{unconf} ({unconf / hits:.1%})" if hits else "0",
@@ -192,7 +197,7 @@ for spec in specs:
     except (FileNotFoundError, IndexError, json.JSONDecodeError):
         pass
 
-head = ["model", "scale", "our arith", "fidget s", "ours s", "ours/fidget",
+head = ["model", "scale", "our arith", "fidget s", "ours s", "ours/fidget", "ours/fidget CPU",
         "fidget render s", "ours render s", "fidget hits", "our hits",
         "our unconfirmed", "mask agreement", "fidget-only / ours-only px",
         "median abs depth diff (voxels)"]
@@ -218,11 +223,14 @@ which picked X for this model.
 - Machine: {cpu}, **shared** (other builds and CI may run alongside), so the times are
   indicative; each ratio comes from one run with the tools alternating. Both tools use
   every core (fidget: rayon's global pool; ours: one worker per core).
+- Load average (1, 5, 15 min) at the start / the end of the run:
+  {read(f"{tmp}/load").strip()}.
 - Images: {size} x {size}; fidget also {size} voxels deep. Each tool ran {rounds} times
   per model, the order flipped every round (fidget, ours, ours, fidget, ...); medians.
 
 Columns: *fidget s* / *ours s*: median whole-process wall time (start to exit, reading
-the model and writing PNG, mask / depth map included); *ours/fidget*: their ratio;
+the model and writing PNG, mask / depth map included); *ours/fidget*: their ratio (goal of issue 41: at most 0.5); *ours/fidget CPU*:
+the ratio of the medians of user + system seconds (all threads);
 *render s*: the render alone by each tool's own timer (fidget: `voxel::render`; ours:
 the `wall_s` of `--stats json`); *hits*: fraction of pixels hit; *our unconfirmed*: hit
 pixels without a sign change of f within the precision; *mask agreement*: fraction of

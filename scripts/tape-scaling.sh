@@ -39,12 +39,13 @@ TRACER=${CARGO_TARGET_DIR:-target}/release/tracer
 python3 scripts/gen-vm-scenes.py "$GEN_DIR" --kinds balls --n "${NS// /,}" --seed "$SEED" > /dev/null
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
+load0=$(cut -d' ' -f1-3 /proc/loadavg)
 now_ns() { date +%s%N; }
 for r in $(seq 1 "$ROUNDS"); do
     for n in $NS; do
         echo "round $r/$ROUNDS: $n balls" >&2
         t0=$(now_ns)
-        "$TRACER" render "$GEN_DIR/balls-$n.vm" --size "${SIZE}x$SIZE" --arith "$ARITH" --stats json -q \
+        /usr/bin/time -f "%U %S" -o "$tmp/$n-$r.cpu" "$TRACER" render "$GEN_DIR/balls-$n.vm" --size "${SIZE}x$SIZE" --arith "$ARITH" --stats json -q \
             --out "$tmp/balls-$n.png" > "$tmp/$n-$r.json" 2> "$tmp/$n-$r.err" \
             || { cat "$tmp/$n-$r.err" >&2; exit 1; }
         t1=$(now_ns)
@@ -52,6 +53,7 @@ for r in $(seq 1 "$ROUNDS"); do
     done
 done
 
+echo "$load0 / $(cut -d' ' -f1-3 /proc/loadavg)" > "$tmp/load"
 python3 - "$tmp" "$GEN_DIR" "$ROUNDS" "$(git rev-parse --short HEAD 2>/dev/null || echo unknown)" \
     "$(date -u '+%Y-%m-%d %H:%M UTC')" "$(nproc)" \
     "NS=\"$NS\" SIZE=$SIZE ROUNDS=$ROUNDS ARITH=$ARITH SEED=$SEED scripts/tape-scaling.sh" \
@@ -66,6 +68,8 @@ for n in ns:
         instr = sum(1 for l in f if l.strip() and not l.lstrip().startswith("#")
                     and l.split()[1] != "const")
     secs = [int(open(f"{tmp}/{n}-{r}.ns").read()) / 1e9 for r in range(1, rounds + 1)]
+    cpus = [sum(float(v) for v in open(f"{tmp}/{n}-{r}.cpu").read().split()[-2:])
+            for r in range(1, rounds + 1)]
     s = json.loads(open(f"{tmp}/{n}-{rounds}.json").read().splitlines()[0])
     evals = s["range_evals"] + s["cell_evals"] + s["shade_evals"]
     mean = s["range_ops"] / evals if evals else 0.0
@@ -73,10 +77,11 @@ for n in ns:
     rows.append([f"{n}", s["arith"], f"{instr}", f"{mean:.1f}", f"{mean / means[0]:.2f}",
                  f"{s['range_evals']}", f"{s['cell_evals']}", f"{s['shade_evals']}",
                  f"{evals / max(s['hits'], 1):.1f}", f"{s['hits']}", f"{s['unconfirmed']}",
-                 f"{s['wall_s']:.3f}", f"{min(secs):.3f}"])
+                 f"{s['wall_s']:.3f}", f"{min(secs):.3f}", f"{min(cpus):.3f}"])
 head = ["N balls", "arith", ".vm instructions", "mean tape per range eval",
         f"mean tape / N={ns[0]}", "ray range evals", "cell range evals", "shading-box range evals",
-        "range evals per hit", "hits", "unconfirmed", "render s (stats)", "best whole-process s"]
+        "range evals per hit", "hits", "unconfirmed", "render s (stats)", "best whole-process s",
+        "best CPU s"]
 table = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
 table += ["| " + " | ".join(r) + " |" for r in rows]
 growth = means[-1] / means[0] if means[0] else float("inf")
@@ -90,7 +95,8 @@ if doc:
 
 - Command: `{command}`
 - Date: {date}, commit {commit}; {cores} cores, a shared machine: times are indicative,
-  the counters are exact and repeatable.
+  the counters are exact and repeatable. Load average (1, 5, 15 min) at the start / the
+  end of the run: {open(f"{tmp}/load").read().strip()}.
 - Scenes: `scripts/gen-vm-scenes.py DIR --kinds balls` (the `.vm` files, f < 0 inside,
   `|p - c|^2 - r^2` per ball, balanced `min` tree), rendered by `tracer render FILE
   --size WxH --stats json` in the view framing the header's domain `[-1, 1]^3`.
@@ -100,7 +106,7 @@ per range eval*: `range_ops / (range_evals + cell_evals + shade_evals)` of `--st
 json`, i.e. the mean length of the specialised tapes that range evaluations ran;
 *range evals per hit*: all three kinds of range evaluations over the hit pixels;
 *render s*: the tracer's own `wall_s` (last round); *best whole-process s*: best of
-{rounds} rounds, start to exit.
+{rounds} rounds, start to exit; *best CPU s*: user + system seconds of the process.
 
 {chr(10).join(table)}
 
