@@ -61,10 +61,12 @@ for r in $(seq 1 "$ROUNDS"); do
 done
 
 echo "$ROWS" > "$tmp/rows"
+cmd="ROUNDS=$ROUNDS ARITH=$ARITH scripts/table1-paper.sh"
+[ "$MODELS" = "$ALL" ] || cmd="MODELS=\"$MODELS\" $cmd"
 echo "$load0 / $(cut -d' ' -f1-3 /proc/loadavg)" > "$tmp/load"
 python3 - "$tmp" "$ROUNDS" "$(git rev-parse --short HEAD 2>/dev/null || echo unknown)" \
     "$(date -u '+%Y-%m-%d %H:%M UTC')" "$(nproc)" \
-    "MODELS=\"$MODELS\" ROUNDS=$ROUNDS ARITH=$ARITH scripts/table1-paper.sh" "$DOC" $MODELS <<'EOF'
+    "$cmd" "$DOC" $MODELS <<'EOF'
 import json, sys
 tmp, rounds, commit, date, cores, command, doc = sys.argv[1:8]
 models = sys.argv[8:]
