@@ -125,7 +125,7 @@ cpu=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo 2>/dev/null | head -
 cpu="$(nproc) cores (${cpu:-unknown CPU})"
 python3 - "$tmp" "$SIZE" "$ROUNDS" "$PROBE_SIZE" "$fidget_version" "$cpu" \
     "$(git rev-parse --short HEAD 2>/dev/null || echo unknown)" "$(date -u +%Y-%m-%d)" \
-    "SIZE=$SIZE ROUNDS=$ROUNDS PROBE_SIZE=$PROBE_SIZE MODELS=\"$MODELS\" scripts/peer-fidget.sh" \
+    "SIZE=$SIZE ROUNDS=$ROUNDS PROBE_SIZE=$PROBE_SIZE SHIFT_CHECK=$SHIFT_CHECK MODELS=\"$MODELS\" scripts/peer-fidget.sh" \
     "$DOC" $MODELS <<'EOF'
 import json, re, statistics, sys
 tmp, size, rounds, probe_size, fver, cpu, commit, date, command, doc = sys.argv[1:11]
