@@ -144,7 +144,7 @@ for spec in specs:
     name, scale, arith = spec.split(":")
     peer_s = [int(read(f"{tmp}/{name}-peer-{r}.ns")) / 1e9 for r in range(1, rounds + 1)]
     ours_s = [int(read(f"{tmp}/{name}-ours-{r}.ns")) / 1e9 for r in range(1, rounds + 1)]
-    cpu = lambda who: med([sum(float(v) for v in read(f"{tmp}/{name}-{who}-{r}.cpu").split()[-2:])
+    cpu_s = lambda who: med([sum(float(v) for v in read(f"{tmp}/{name}-{who}-{r}.cpu").split()[-2:])
                            for r in range(1, rounds + 1)])
     peer_render = []
     for r in range(1, rounds + 1):
@@ -163,7 +163,7 @@ for spec in specs:
     rows.append([
         name, scale, f"auto ({picked})" if arith == "auto" else arith,
         f"{med(peer_s):.2f}", f"{med(ours_s):.2f}", f"{med(ours_s) / med(peer_s):.2f}",
-        f"{cpu('ours') / cpu('peer'):.2f}" if cpu('peer') > 0 else "-",
+        f"{cpu_s('ours') / cpu_s('peer'):.2f}" if cpu_s('peer') > 0 else "-",
         f"{med(peer_render):.2f}", f"{med(ours_render):.2f}",
         f"{cmp['peer_hits'] / px:.4f}", f"{cmp['our_hits'] / px:.4f}",
         f"{unconf} ({unconf / hits:.1%})" if hits else "0",
