@@ -290,20 +290,17 @@ def candidate_pairs(lo, hi):
     return np.concatenate(pairs)
 
 
-def self_intersections(v, t):
-    if len(t) < 2:
-        return 0
-    tv = v[t]  # (F, 3, 3)
-    lo, hi = tv.min(axis=1), tv.max(axis=1)
-    pairs = candidate_pairs(lo, hi)
-    total = 0
+def self_intersection_flags(v, t, pairs):
+    """For each candidate pair (i, j), whether triangles i and j cross (see the module
+    doc: no shared vertex, any edge through the other; one shared vertex, the edge
+    opposite it through the other; more shared vertices: not counted)."""
+    hit = np.zeros(len(pairs), bool)
     for s in range(0, len(pairs), 1 << 20):
         i, j = pairs[s:s + (1 << 20), 0], pairs[s:s + (1 << 20), 1]
         A, B = t[i], t[j]
         eq = A[:, :, None] == B[:, None, :]  # (P, 3, 3)
         shared = eq.sum(axis=(1, 2))
-        hit = np.zeros(len(i), bool)
-        # No shared vertex: any edge of one crossing the other.
+        chunk = np.zeros(len(i), bool)
         m = shared == 0
         if m.any():
             PA, PB = v[A[m]], v[B[m]]
@@ -311,8 +308,7 @@ def self_intersections(v, t):
             for X, Y in ((PA, PB), (PB, PA)):
                 for k in range(3):
                     h |= segment_crosses(X[:, k], X[:, (k + 1) % 3], Y[:, 0], Y[:, 1], Y[:, 2])
-            hit[m] = h
-        # One shared vertex: the edge opposite it, of either, crossing the other.
+            chunk[m] = h
         m = shared == 1
         if m.any():
             h = np.zeros(int(m.sum()), bool)
@@ -323,9 +319,17 @@ def self_intersections(v, t):
                 q = v[X[rows, (k + 2) % 3]]
                 Yv = v[Y]
                 h |= segment_crosses(p, q, Yv[:, 0], Yv[:, 1], Yv[:, 2])
-            hit[m] = h
-        total += int(hit.sum())
-    return total
+            chunk[m] = h
+        hit[s:s + len(i)] = chunk
+    return hit
+
+
+def self_intersections(v, t):
+    if len(t) < 2:
+        return 0
+    tv = v[t]  # (F, 3, 3)
+    pairs = candidate_pairs(tv.min(axis=1), tv.max(axis=1))
+    return int(self_intersection_flags(v, t, pairs).sum())
 
 
 # ---------------------------------------------------------------- the model

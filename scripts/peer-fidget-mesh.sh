@@ -293,6 +293,13 @@ shape clipped to its domain, which is what we mesh; fidget's mesh is not clipped
 
 {chr(10).join(table)}
 
+fidget splits each dual quad into four triangles around the point where the quad's
+edge crosses the surface (that point is one corner of each, `walk_dual` in
+fidget-mesh's `builder.rs`), so it has about twice our triangles at the same cells;
+its crossing pairs include pairs of such fans that share only that point and fold
+through each other. `scripts/mesh_check_exact.py MESH` re-tests a random sample of the
+checker's verdicts (pairs sharing no vertex, and one) in exact rational arithmetic.
+
 What our time goes to (from `--stats json` of the last timed run, and two extra runs:
 without the self-intersection check, and without it at `--max-depth {depth}`, i.e. with
 no probing below the depth and no raising of the leaf level, the work closest to

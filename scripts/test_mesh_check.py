@@ -104,6 +104,19 @@ class Files(unittest.TestCase):
             r = self.run_check(f"{d}/o.obj", "--vm", f"{d}/s.vm", "--clip=-2,-2,-2,0.9,2,2")
             self.assertAlmostEqual(json.loads(r.stdout)["max_distance"], 0.5, places=5)
 
+    def test_exact_sample_agrees(self):
+        v = np.array([[-1, -1, 0], [1, -1, 0], [0, 1, 0], [0, 0, -1], [0.2, 0, 1],
+                      [0, 0.3, 1], [0.5, 0.5, -1], [0.5, 0.5, 1], [5, 5, 5]], float)
+        t = np.array([[0, 1, 2], [3, 4, 5], [0, 6, 7], [6, 7, 8]])
+        with tempfile.TemporaryDirectory() as d:
+            write_obj(f"{d}/x.obj", v, t)
+            r = subprocess.run([sys.executable, os.path.join(HERE, "mesh_check_exact.py"),
+                                f"{d}/x.obj"], capture_output=True, text=True)
+            self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+            # [3, 4, 5] also pierces [0, 6, 7] (plane x = y) near (0.06, 0.06, 0).
+            self.assertIn("2 crossing pairs sharing no vertex", r.stdout)
+            self.assertIn("1 crossing pairs sharing one vertex", r.stdout)
+
     def test_bad_input_is_one_line(self):
         with tempfile.TemporaryDirectory() as d:
             with open(f"{d}/m.obj", "w") as f:
