@@ -15,8 +15,9 @@ Prints one JSON object:
 - self_intersections: triangle pairs that cross, over a uniform grid of their boxes.
   Pairs sharing no vertex: an edge of one crosses the other's interior; pairs sharing
   one vertex: the edge opposite it crosses the other. Strict sign tests of f64
-  orientation determinants (not exact predicates): touching and coplanar overlaps are
-  not counted, nor are pairs sharing an edge;
+  orientation determinants (not exact predicates; an edge end within 1e-12 of the
+  cube of the pair's extent of the other's plane counts as in it): touching and
+  coplanar overlaps are not counted, nor are pairs sharing an edge;
 - with --vm: the largest distance of a used vertex to the surface, estimated to first
   order as |f| / |grad f| (gradient by central differences), f the .vm tape evaluated in
   f64; with --clip, f is the shape clipped to the box (min of -f and the box's
@@ -240,9 +241,14 @@ def orient(a, b, c, d):
 
 
 def segment_crosses(p, q, u, v, w):
-    """Whether segment pq crosses the interior of triangle uvw (strict, per row)."""
+    """Whether segment pq crosses the interior of triangle uvw (strict, per row). An end
+    within rounding of the plane (|orientation| below 1e-12 of the cube of the pair's
+    extent: coplanar or touching) does not cross."""
     s1, s2 = orient(u, v, w, p), orient(u, v, w, q)
-    across = ((s1 > 0) & (s2 < 0)) | ((s1 < 0) & (s2 > 0))
+    pts = np.stack([p, q, u, v, w], axis=1)
+    ext = (pts.max(axis=1) - pts.min(axis=1)).max(axis=1)
+    tol = 1e-12 * ext ** 3
+    across = ((s1 > tol) & (s2 < -tol)) | ((s1 < -tol) & (s2 > tol))
     t1, t2, t3 = orient(p, q, u, v), orient(p, q, v, w), orient(p, q, w, u)
     inside = ((t1 > 0) & (t2 > 0) & (t3 > 0)) | ((t1 < 0) & (t2 < 0) & (t3 < 0))
     return across & inside

@@ -164,7 +164,7 @@ cpu=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo 2>/dev/null | head -
 cpu="$(nproc) cores (${cpu:-unknown CPU})"
 python3 - "$tmp" "$OUT_DIR" "$DEPTH" "$ROUNDS" "$TIMEOUT" "$DIAG" "${MAX_DEPTH:-}" "$fidget_version" "$cpu" \
     "$(git rev-parse --short HEAD 2>/dev/null || echo unknown)" "$(date -u +%Y-%m-%d)" \
-    "DEPTH=$DEPTH ROUNDS=$ROUNDS${MAX_DEPTH:+ MAX_DEPTH=$MAX_DEPTH} MODELS=\"$MODELS\" scripts/peer-fidget-mesh.sh" \
+    "DEPTH=$DEPTH ROUNDS=$ROUNDS${MAX_DEPTH:+ MAX_DEPTH=$MAX_DEPTH} DIAG=$DIAG TIMEOUT=$TIMEOUT MODELS=\"$MODELS\" OUT_DIR=$OUT_DIR DOC=$DOC scripts/peer-fidget-mesh.sh" \
     "$DOC" $MODELS <<'EOF'
 import json, os, statistics, sys
 tmp, out_dir, depth, rounds, timeout, diag, max_depth, fver, cpu, commit, date, command, doc = sys.argv[1:14]

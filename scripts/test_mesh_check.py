@@ -72,6 +72,12 @@ class SelfIntersections(unittest.TestCase):
         v2 = np.vstack([v, [[0.5, 0.5, -1], [0.5, 0.5, 1]]])
         t2 = np.array([[0, 1, 2], [0, 9, 10]])
         self.assertEqual(mesh_check.self_intersections(v2, t2), 1)
+        # Coplanar and overlapping, sharing vertex 0: not counted (rounding decides
+        # the signs there, as on a flat face of a mesh).
+        v4 = np.array([[-0.05520982, 0.7007874, 0.1924], [-0.03943304, 0.68503937, 0.19623548],
+                       [-0.05520982, 0.68503937, 0.1924]], float)
+        v4 = np.vstack([v4, v4[0] + 0.8 * (v4[1] - v4[0]) + 0.5 * (v4[2] - v4[0])])
+        self.assertEqual(mesh_check.self_intersections(v4, np.array([[0, 1, 2], [0, 3, 2]])), 0)
         # Sharing an edge, or a vertex only: not counted.
         t3 = np.array([[0, 1, 2], [0, 1, 3], [2, 6, 7]])
         self.assertEqual(mesh_check.self_intersections(v, t3), 0)
