@@ -294,8 +294,8 @@ shape clipped to its domain, which is what we mesh; fidget's mesh is not clipped
 {chr(10).join(table)}
 
 fidget splits each dual quad into four triangles around the point where the quad's
-edge crosses the surface (that point is one corner of each, `walk_dual` in
-fidget-mesh's `builder.rs`), so it has about twice our triangles at the same cells;
+edge crosses the surface (that point is the last corner of each: `MeshBuilder::triangle`
+in fidget-mesh's `builder.rs`), so it has about twice our triangles at the same cells;
 its crossing pairs include pairs of such fans that share only that point and fold
 through each other. `scripts/mesh_check_exact.py MESH` re-tests a random sample of the
 checker's verdicts (pairs sharing no vertex, and one) in exact rational arithmetic.
@@ -303,7 +303,7 @@ checker's verdicts (pairs sharing no vertex, and one) in exact rational arithmet
 What our time goes to (from `--stats json` of the last timed run, and two extra runs:
 without the self-intersection check, and without it at `--max-depth {depth}`, i.e. with
 no probing below the depth and no raising of the leaf level, the work closest to
-fidget's): *leaf level*: the level the surface was contoured at (above {depth} where
+fidget's; each skipped where `-`): *leaf level*: the level the surface was contoured at (above {depth} where
 probes or the finer check found features thinner than a cell); *cells probed*: cells
 evaluated below the leaf level; *finer cells*: leaves whose finer lattice showed another
 topology than their corners; *edge evals*: range evaluations of the edge root search.
