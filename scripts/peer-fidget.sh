@@ -51,9 +51,12 @@ for spec in $MODELS; do
 done
 
 echo "building fidget-peer and tracer (release)..." >&2
-nice -n 10 cargo build --release -q --manifest-path bench-suite/peers/fidget/Cargo.toml
+# The peer in its own target dir, whatever CARGO_TARGET_DIR says (it is not our
+# workspace); our tracer where CARGO_TARGET_DIR (default target/) puts it.
+CARGO_TARGET_DIR=bench-suite/peers/fidget/target \
+    nice -n 10 cargo build --release -q --manifest-path bench-suite/peers/fidget/Cargo.toml
 nice -n 10 cargo build --release -q -p tracer --bin tracer
-PEER=${CARGO_TARGET_DIR:-bench-suite/peers/fidget/target}/release/fidget-peer
+PEER=bench-suite/peers/fidget/target/release/fidget-peer
 TRACER=${CARGO_TARGET_DIR:-target}/release/tracer
 mkdir -p "$OUT_DIR"
 [ -z "$DOC" ] || mkdir -p "$(dirname "$DOC")"
