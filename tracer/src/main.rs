@@ -312,9 +312,13 @@ fn cmd_render(a: &RenderArgs) -> Result<(), String> {
     let kind = if auto && !gpu {
         let c = tracer::render::auto_arith::choose(&model.shape, &opts)?;
         if !a.quiet {
+            let hull = c
+                .unconfirmed
+                .1
+                .map_or("not probed".into(), |u| u.to_string());
             eprintln!(
-                "--arith auto: {} (probe {}x{}: {} hits, unconfirmed revaa {}, hull {})",
-                c.kind, c.size.0, c.size.1, c.hits, c.unconfirmed.0, c.unconfirmed.1
+                "--arith auto: {} (probe {}x{}: {} hits, unconfirmed revaa {}, hull {hull})",
+                c.kind, c.size.0, c.size.1, c.hits, c.unconfirmed.0
             );
         }
         c.kind
