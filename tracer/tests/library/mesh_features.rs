@@ -1,7 +1,8 @@
 //! Sharp features of CSG against their exact positions: the corners and edges of a
 //! rotated cube (so that no corner or crease lies on the grid) and the creases of a
 //! sphere with a box cut out of it, meshed with every `min`/`max` branch's plane in the
-//! QEF and, for comparison, with one plane per crossing (which chamfers them).
+//! QEF and with one plane per crossing (both within the bounds on these shapes: the
+//! cells' edges see both sheets of their creases), and merging cells.
 
 use arith_core::Real;
 use glam::{DMat3, DVec3};
@@ -148,13 +149,13 @@ fn a_rotated_cube_keeps_its_corners_and_edges() {
     let edges = crease_error(&res.mesh, &cube_edges(&cube), h);
     assert!(corners < 0.05, "corner {corners} cells from a vertex");
     assert!(edges < 0.05, "edge {edges} cells from the mesh");
-    // One plane per crossing chamfers them: the test tells the two apart.
+    // One plane per crossing passes this too (corners 0.005, edges 0.012 cells when
+    // last measured): the cells' edges see both sheets of these creases. The branch
+    // planes must not make it worse, so the same bounds hold without them.
     let plain = run(&cube, depth, false);
-    let (c0, e0) = (
-        corner_error(&cube, &plain.mesh, h),
-        crease_error(&plain.mesh, &cube_edges(&cube), h),
-    );
-    assert!(c0.max(e0) > 0.1, "corners {c0}, edges {e0} cells");
+    assert_closed(&plain);
+    assert!(corner_error(&cube, &plain.mesh, h) < 0.05);
+    assert!(crease_error(&plain.mesh, &cube_edges(&cube), h) < 0.05);
 }
 
 /// A ball of radius 0.8 with the box `x >= 0.25, y <= 0.15` cut out: two convex
@@ -207,9 +208,9 @@ fn a_ball_with_a_box_cut_out_keeps_its_creases() {
     assert_closed(&res);
     let err = crease_error(&res.mesh, &Notched::creases(), h);
     assert!(err < 0.1, "crease {err} cells from the mesh");
+    // One plane per crossing passes too (0.0085 cells when last measured).
     let plain = run(&Notched, depth, false);
-    let err0 = crease_error(&plain.mesh, &Notched::creases(), h);
-    assert!(err0 > 0.15, "one plane per crossing: {err0} cells");
+    assert!(crease_error(&plain.mesh, &Notched::creases(), h) < 0.1);
 }
 
 /// The largest `|f| / |grad f|` over the vertices, in cells of size `h`.
