@@ -51,6 +51,14 @@ pub struct MeshArgs {
     /// Skip the self-intersection check (a BVH over the triangles after meshing).
     #[arg(long)]
     pub no_check: bool,
+    /// Keep one vertex per piece of surface per leaf cell: do not merge cells where
+    /// one vertex fits their planes (more triangles on flat parts).
+    #[arg(long)]
+    pub no_merge: bool,
+    /// One plane per edge crossing: leave out the other min/max branches' planes at
+    /// creases and corners (as fidget; sharp features get chamfered).
+    #[arg(long)]
+    pub no_branch_planes: bool,
     /// No progress bar.
     #[arg(long, short)]
     pub quiet: bool,
@@ -131,6 +139,10 @@ pub fn plan(a: &MeshArgs) -> Result<Plan, String> {
     let mut opts = MeshOptions::new(model.domain, depth);
     opts.max_depth = max_depth;
     opts.check_self_intersections = !a.no_check;
+    if a.no_merge {
+        opts.merge = None;
+    }
+    opts.branch_planes = !a.no_branch_planes;
     opts.memory_limit = available_memory();
     opts.check().map_err(|e| match e {
         MeshError::TooLarge { .. } => format!("--depth {depth}: {e}"),
@@ -217,6 +229,7 @@ pub fn stats_json(model: &str, arith: &str, s: &MeshStats) -> String {
         ("unresolved_at_max_depth", s.unresolved_at_max_depth),
         ("surface_cells", s.surface_cells),
         ("multi_piece_cells", s.multi_piece_cells),
+        ("merged_vertices", s.merged_vertices),
         ("crossings", s.crossings),
         ("multi_root_edges", s.multi_root_edges),
         ("edge_evals", s.edge_evals),

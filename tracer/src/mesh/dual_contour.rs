@@ -13,6 +13,7 @@
 
 use super::edge_roots::{crossing, Crossing};
 use super::grid::{corner_of, edge_between, edge_corners, face_corners, key, unkey, Grid};
+use super::merge::{merge, Clustered};
 use super::octree::inside;
 use super::patches::{pieces, NONE};
 use super::qef::Qef;
@@ -36,6 +37,8 @@ pub struct ContourStats {
     pub added_cells: u64,
     /// Cells holding more than one piece of the surface.
     pub multi_piece_cells: u64,
+    /// Vertices removed by merging cells.
+    pub merged_vertices: u64,
     /// Sign-changing edges.
     pub crossings: u64,
     /// Edges with more than one sign-changing root (the grid is coarse there).
@@ -56,6 +59,11 @@ pub struct Contour<'a, S> {
     pub grid: Grid,
     /// The level of the cells.
     pub level: u32,
+    /// Find the other branches' planes at crossings ([`super::branches`]).
+    pub branch_planes: bool,
+    /// Merge cells whose vertices fit their planes within this distance
+    /// ([`super::merge`]); `None`: no merging.
+    pub merge_error: Option<f64>,
     /// Stops the work when set.
     pub cancel: Option<&'a AtomicBool>,
 }
@@ -100,8 +108,22 @@ impl<S: Shape> Contour<'_, S> {
             return None;
         }
         stats.multi_piece_cells = pieces.iter().filter(|p| p.1 > 1).count() as u64;
-        let triangles = self.quads(&cells, &edges, &pieces, &vertices);
+        let triangles = self.quads(&cells, &edges, &pieces, &vertices.pos);
         ticker.tick(1);
+        let (vertices, triangles) = match self.merge_error {
+            Some(e) => {
+                let m = Clustered {
+                    vertices: vertices.pos,
+                    triangles,
+                    cells: vertices.cells,
+                    qefs: vertices.qefs,
+                };
+                let (v, t, removed) = merge(m, self.level, e, |l, c| self.vertex_box(l, c));
+                stats.merged_vertices = removed;
+                (v, t)
+            }
+            None => (vertices.pos, triangles),
+        };
         let mesh = Mesh {
             vertices: vertices.iter().map(|v| v.to_array()).collect(),
             triangles,
@@ -184,7 +206,14 @@ impl<S: Shape> Contour<'_, S> {
                     .iter()
                     .map(|&(lo, axis)| {
                         let a = self.grid.point(self.level, unkey(lo));
-                        crossing::<A, S>(self.shape, &self.domain, a, axis as usize, h)
+                        crossing::<A, S>(
+                            self.shape,
+                            &self.domain,
+                            a,
+                            axis as usize,
+                            h,
+                            self.branch_planes,
+                        )
                     })
                     .collect();
                 ticker.tick(1);
@@ -198,14 +227,13 @@ impl<S: Shape> Contour<'_, S> {
 
     /// Each cell's pieces (the vertex index of each local edge's piece, `u32::MAX`
     /// for none, and the number of pieces) and every vertex.
-    #[allow(clippy::type_complexity)]
     fn vertices(
         &self,
         cells: &Cells,
         edges: &[(u64, u8)],
         crossings: &[Crossing],
         ticker: &Ticker,
-    ) -> Option<(Vec<([u32; 12], u8)>, Vec<DVec3>)> {
+    ) -> Option<(Vec<([u32; 12], u8)>, Vertices)> {
         let flipped = self.flip_faces(cells);
         let flipped = &flipped;
         let chunks: Vec<Option<Vec<CellPieces>>> = cells
@@ -226,15 +254,19 @@ impl<S: Shape> Contour<'_, S> {
             })
             .collect();
         let mut pieces = Vec::with_capacity(cells.keys.len());
-        let mut vertices = Vec::new();
-        for cell in chunks
+        let mut vertices = Vertices::default();
+        for (cell, c) in chunks
             .into_iter()
             .collect::<Option<Vec<_>>>()?
             .into_iter()
             .flatten()
+            .zip(&cells.keys)
         {
-            pieces.push((shift(cell.piece, vertices.len() as u32), cell.count));
-            vertices.extend(cell.vertices);
+            pieces.push((shift(cell.piece, vertices.pos.len() as u32), cell.count));
+            let n = cell.vertices.len();
+            vertices.pos.extend(cell.vertices);
+            vertices.qefs.extend(cell.qefs);
+            vertices.cells.extend(std::iter::repeat_n(unkey(*c), n));
         }
         Some((pieces, vertices))
     }
@@ -305,6 +337,7 @@ impl<S: Shape> Contour<'_, S> {
     ) -> CellPieces {
         let (piece, count) = self.cell_pieces(c, mask, flipped);
         let mut qefs = vec![Qef::default(); count as usize];
+        let cell = self.grid.cell_box(self.level, c);
         for e in 0..12 {
             if piece[e] == NONE {
                 continue;
@@ -312,21 +345,23 @@ impl<S: Shape> Contour<'_, S> {
             let (lo, _) = edge_corners(e);
             let g = (key(corner_of(c, lo)), (e / 4) as u8);
             if let Ok(i) = edges.binary_search(&g) {
-                qefs[piece[e] as usize].add(crossings[i].p, crossings[i].n);
+                add_crossing(&mut qefs[piece[e] as usize], &crossings[i], &cell);
             }
         }
-        let (lo, hi) = self.vertex_box(c);
+        let (lo, hi) = self.vertex_box(self.level, c);
         CellPieces {
             piece,
             count,
             vertices: qefs.iter().map(|q| q.solve(lo, hi)).collect(),
+            qefs,
         }
     }
 
-    /// Where the vertices of cell `c` may go: the cell within the domain (the clipped
-    /// shape's surface lies in the domain), shrunk by [`MARGIN`] of a cell.
-    fn vertex_box(&self, c: [u32; 3]) -> (DVec3, DVec3) {
-        let b = self.grid.cell_box(self.level, c);
+    /// Where the vertices of cell `c` at `level` may go: the cell within the domain
+    /// (the clipped shape's surface lies in the domain), shrunk by [`MARGIN`] of a
+    /// leaf cell.
+    fn vertex_box(&self, level: u32, c: [u32; 3]) -> (DVec3, DVec3) {
+        let b = self.grid.cell_box(level, c);
         let m = MARGIN * self.grid.cell_size(self.level);
         let (mut lo, mut hi) = (b.min.max(self.domain.min), b.max.min(self.domain.max));
         for k in 0..3 {
@@ -391,12 +426,34 @@ impl<S: Shape> Contour<'_, S> {
     }
 }
 
+/// Adds a crossing's plane to `q`, and the planes of its other branches whose crease
+/// with it passes through the cell (a sharp feature in the cell that the cell's edges
+/// may not all see).
+fn add_crossing(q: &mut Qef, x: &Crossing, cell: &Aabb) {
+    q.add(x.p, x.n);
+    for b in &x.others {
+        if b.crease_meets(x.p, x.n, cell.min, cell.max) {
+            let (p, n) = b.plane(x.p);
+            q.add_plane(p, n);
+        }
+    }
+}
+
 /// The pieces of one cell: the piece of each local edge ([`NONE`]: none), their
 /// number, and a vertex per piece.
 struct CellPieces {
     piece: [u8; 12],
     count: u8,
     vertices: Vec<DVec3>,
+    qefs: Vec<Qef>,
+}
+
+/// Every vertex with its leaf cell and its QEF.
+#[derive(Default)]
+struct Vertices {
+    pos: Vec<DVec3>,
+    cells: Vec<[u32; 3]>,
+    qefs: Vec<Qef>,
 }
 
 /// Faces whose ambiguity decision is flipped: (key of the lower corner, normal axis).

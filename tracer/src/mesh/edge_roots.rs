@@ -12,6 +12,7 @@
 //! sign-changing roots on the edge is known: more than one means the grid is too coarse
 //! there (counted in the statistics).
 
+use super::branches::{branches, Branch};
 use super::grid::Clipped;
 use crate::shape::{Aabb, Shape};
 use arith_core::dual::Dual;
@@ -25,13 +26,20 @@ const MAX_EVALS: u32 = 400;
 /// Point bisection steps after isolation (far below `f64` resolution of the edge).
 const BISECT_STEPS: u32 = 60;
 
+/// Tie tolerance of [`branches`], in edge lengths: sheets within about this distance
+/// of the crossing may meet it in one of the edge's cells.
+pub const TIE_CELLS: f64 = 2.0;
+
 /// A root of `f` on an edge, with the surface's normal there.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Crossing {
     /// The point where the sign changes.
     pub p: DVec3,
     /// The unit outward normal (towards `f < 0`) from the gradient at `p`.
     pub n: DVec3,
+    /// The other branches of `f` at `p` where `min`/`max` arguments are nearly tied
+    /// (the other sheets of a crease or corner near the crossing; empty elsewhere).
+    pub others: Vec<Branch>,
     /// Sign-changing roots found on the edge (odd; 1 for a well-resolved edge).
     pub roots: u32,
     /// Range evaluations spent.
@@ -39,13 +47,15 @@ pub struct Crossing {
 }
 
 /// Finds the crossing on the edge from `a` (`inside` at `a`) along `axis` over length
-/// `len`, of `shape` clipped to `domain`. The ends must differ in sign.
+/// `len`, of `shape` clipped to `domain`, with the other branches tied there when
+/// `with_branches`. The ends must differ in sign.
 pub fn crossing<A: Arithmetic, S: Shape>(
     shape: &S,
     domain: &Aabb,
     a: DVec3,
     axis: usize,
     len: f64,
+    with_branches: bool,
 ) -> Crossing {
     let f = Clipped {
         inner: shape,
@@ -60,9 +70,17 @@ pub fn crossing<A: Arithmetic, S: Shape>(
         .copied()
         .unwrap_or_else(|| edge.bisect(0.0, len));
     let p = edge.at(t);
+    let others = if with_branches {
+        let mut b = branches(&f, p, TIE_CELLS * len);
+        b.remove(0);
+        b
+    } else {
+        Vec::new()
+    };
     Crossing {
         p,
         n: normal(&f, p, axis, edge.inside(0.0)),
+        others,
         roots: roots.len().max(1) as u32,
         evals,
     }
@@ -184,7 +202,8 @@ mod tests {
     #[test]
     fn every_root_of_an_edge_is_found() {
         let domain = Aabb::cube(2.0);
-        let c = crossing::<RevAaArith, _>(&Layers, &domain, DVec3::new(0.0, 0.5, 0.5), 0, 1.0);
+        let c =
+            crossing::<RevAaArith, _>(&Layers, &domain, DVec3::new(0.0, 0.5, 0.5), 0, 1.0, true);
         assert_eq!(c.roots, 3);
         assert!((c.p.x - 0.1).abs() < 1e-12, "{c:?}");
         // f < 0 at x = 0, rising through 0.1: the outside is towards -x.
@@ -201,7 +220,7 @@ mod tests {
             }
         }
         let domain = Aabb::cube(2.0);
-        let c = crossing::<RevAaArith, _>(&Close, &domain, DVec3::ZERO, 0, 1.0);
+        let c = crossing::<RevAaArith, _>(&Close, &domain, DVec3::ZERO, 0, 1.0, true);
         assert_eq!(c.roots, 3);
     }
 }

@@ -8,9 +8,13 @@
 //!   leaf level for thin features, and the leaf level is raised where one is found;
 //! - [`edge_roots`]: each sign-changing edge's crossing by range-based root isolation,
 //!   the normal from dual numbers;
+//! - [`branches`]: every `min`/`max` branch's plane where branches tie at a crossing
+//!   (the sheets of a crease or corner);
 //! - [`patches`]: the pieces of surface in a cell (one vertex each, Manifold Dual
 //!   Contouring's clustering), [`qef`]: each vertex from its planes, minimised over
 //!   the cell's box;
+//! - [`merge`]: groups of cells collapsed into one vertex where the planes allow it and
+//!   the mesh stays a manifold (fewer triangles on flat parts);
 //! - [`dual_contour`]: a quad (two triangles) per sign-changing edge, wound outward;
 //! - [`certificate`]: the Plantinga–Vegter topology test per surface cell, and
 //!   [`consistency`]: a finer lattice where it fails, for shells thinner than a cell;
@@ -51,11 +55,13 @@
 //! # Ok::<(), tracer::mesh::MeshError>(())
 //! ```
 
+pub mod branches;
 pub mod certificate;
 pub mod consistency;
 pub mod dual_contour;
 pub mod edge_roots;
 pub mod grid;
+pub mod merge;
 pub mod octree;
 pub mod output;
 pub mod patches;
@@ -110,6 +116,14 @@ pub struct MeshOptions {
     pub certify: bool,
     /// Count self-intersecting triangle pairs after meshing.
     pub check_self_intersections: bool,
+    /// Give the QEF the planes of every `min`/`max` branch tied at a crossing
+    /// ([`branches`]), so creases and corners of CSG are kept (off: one plane per
+    /// crossing, as fidget's mesher).
+    pub branch_planes: bool,
+    /// Merge groups of cells into one vertex where it fits their planes within this
+    /// share of a leaf cell and keeps the mesh a manifold ([`merge`]); `None`: no
+    /// merging, one vertex per piece of surface per leaf.
+    pub merge: Option<f64>,
     /// Refuse (with [`MeshError::TooLarge`]) a depth whose estimated memory
     /// ([`estimate_bytes`]) exceeds this many bytes, and keep the leaf level that thin
     /// features ask for within it (`MeshStats::level_wanted` then says so).
@@ -122,6 +136,10 @@ pub struct MeshOptions {
 
 /// The shallowest depth accepted.
 pub const MIN_DEPTH: u32 = 2;
+
+/// The default largest distance of a merged vertex from its cells' planes, in leaf
+/// cells.
+pub const DEFAULT_MERGE_ERROR: f64 = 0.01;
 
 /// Extra levels that probes go below the depth by default.
 pub const DEFAULT_EXTRA_DEPTH: u32 = 4;
@@ -136,6 +154,8 @@ impl MeshOptions {
             max_depth: (depth + DEFAULT_EXTRA_DEPTH).min(grid::MAX_DEPTH),
             certify: true,
             check_self_intersections: true,
+            branch_planes: true,
+            merge: Some(DEFAULT_MERGE_ERROR),
             memory_limit: None,
             progress: None,
             cancel: None,
@@ -266,6 +286,8 @@ pub struct MeshStats {
     pub surface_cells: u64,
     /// Surface cells holding several pieces of surface (one vertex each).
     pub multi_piece_cells: u64,
+    /// Vertices removed by merging cells.
+    pub merged_vertices: u64,
     /// Sign-changing edges.
     pub crossings: u64,
     /// Edges with several sign-changing roots (finer than the grid).
@@ -322,8 +344,8 @@ impl fmt::Display for MeshStats {
         )?;
         writeln!(
             f,
-            "surface cells      {} ({} with several pieces)",
-            self.surface_cells, self.multi_piece_cells
+            "surface cells      {} ({} with several pieces); {} vertices merged away",
+            self.surface_cells, self.multi_piece_cells, self.merged_vertices
         )?;
         writeln!(
             f,
@@ -451,6 +473,8 @@ fn run<A: Arithmetic, S: Shape>(
         domain: opts.domain,
         grid,
         level,
+        branch_planes: opts.branch_planes,
+        merge_error: opts.merge.map(|e| e * grid.cell_size(level)),
         cancel,
     };
     let (mesh, c) = contour
@@ -459,6 +483,7 @@ fn run<A: Arithmetic, S: Shape>(
     stats.level = level;
     stats.surface_cells = c.cells;
     stats.multi_piece_cells = c.multi_piece_cells;
+    stats.merged_vertices = c.merged_vertices;
     stats.crossings = c.crossings;
     stats.multi_root_edges = c.multi_root_edges;
     stats.edge_evals = c.edge_evals;

@@ -28,6 +28,8 @@ pub struct Qef {
     ata: [[f64; 3]; 3],
     /// `Σ n (n · p)`.
     atb: [f64; 3],
+    /// `Σ (n · p)^2`.
+    btb: f64,
     /// `Σ p`.
     sum: DVec3,
     /// Number of planes.
@@ -35,18 +37,52 @@ pub struct Qef {
 }
 
 impl Qef {
-    /// Adds the plane through `p` with unit normal `n`.
+    /// Adds the plane through `p` with unit normal `n`, and `p` to the mass point.
     pub fn add(&mut self, p: DVec3, n: DVec3) {
+        self.add_plane(p, n);
+        self.sum += p;
+        self.count += 1;
+    }
+
+    /// Adds the plane through `q` with unit normal `n` without moving the mass point
+    /// (another branch's plane at a crossing: `q` need not lie on the surface).
+    pub fn add_plane(&mut self, q: DVec3, n: DVec3) {
         let n = n.to_array();
-        let d = n[0] * p.x + n[1] * p.y + n[2] * p.z;
+        let d = n[0] * q.x + n[1] * q.y + n[2] * q.z;
         for i in 0..3 {
             for j in 0..3 {
                 self.ata[i][j] += n[i] * n[j];
             }
             self.atb[i] += n[i] * d;
         }
-        self.sum += p;
-        self.count += 1;
+        self.btb += d * d;
+    }
+
+    /// Adds the planes and points of `o` (the QEF of a union of cells).
+    pub fn merge(&mut self, o: &Qef) {
+        for i in 0..3 {
+            for j in 0..3 {
+                self.ata[i][j] += o.ata[i][j];
+            }
+            self.atb[i] += o.atb[i];
+        }
+        self.btb += o.btb;
+        self.sum += o.sum;
+        self.count += o.count;
+    }
+
+    /// `Σ (n · (x - p))^2`: the planes' squared distances from `x` summed (without the
+    /// Tikhonov term), at least the square of each plane's distance.
+    pub fn residual(&self, x: DVec3) -> f64 {
+        let x = x.to_array();
+        let mut e = self.btb;
+        for i in 0..3 {
+            for j in 0..3 {
+                e += x[i] * self.ata[i][j] * x[j];
+            }
+            e -= 2.0 * self.atb[i] * x[i];
+        }
+        e.max(0.0)
     }
 
     /// The number of planes added.
@@ -239,6 +275,21 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn the_residual_is_the_sum_of_squared_distances() {
+        let mut q = Qef::default();
+        q.add(DVec3::new(0.3, 0.0, 0.0), DVec3::X);
+        let mut r = Qef::default();
+        r.add(DVec3::new(0.0, 0.5, 0.0), DVec3::Y);
+        q.merge(&r);
+        let x = DVec3::new(0.1, 0.1, 7.0);
+        assert!((q.residual(x) - (0.04 + 0.16)).abs() < 1e-12);
+        assert_eq!(
+            q.mass_point(DVec3::ZERO, DVec3::ONE),
+            DVec3::new(0.15, 0.25, 0.0)
+        );
     }
 
     #[test]

@@ -8,6 +8,7 @@ mod expr;
 mod ground_truth;
 mod hyperfun;
 mod mesh;
+mod mesh_features;
 mod model_files;
 mod progressive_engine;
 mod progressive_noise;

@@ -311,6 +311,8 @@ proptest! {
             threads: None,
             stats,
             no_check: false,
+            no_merge: false,
+            no_branch_planes: false,
             quiet: true,
         };
         let _ = tracer::cli::mesh::plan(&args);
