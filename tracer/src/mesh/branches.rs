@@ -53,7 +53,8 @@ impl Branch {
         let (q, u) = self.plane(p);
         let d = n.cross(u);
         let det = d.length_squared();
-        if !(det > 1e-12) {
+        // NaN (a degenerate gradient) has no crease either.
+        if det.is_nan() || det <= 1e-12 {
             return false;
         }
         // The line's point p + a n + b u with n.(x - p) = 0 and u.(x - p) = u.(q - p).

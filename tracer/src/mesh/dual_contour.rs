@@ -233,7 +233,7 @@ impl<S: Shape> Contour<'_, S> {
         edges: &[(u64, u8)],
         crossings: &[Crossing],
         ticker: &Ticker,
-    ) -> Option<(Vec<([u32; 12], u8)>, Vertices)> {
+    ) -> Option<(Vec<PieceIndex>, Vertices)> {
         let flipped = self.flip_faces(cells);
         let flipped = &flipped;
         let chunks: Vec<Option<Vec<CellPieces>>> = cells
@@ -447,6 +447,10 @@ struct CellPieces {
     vertices: Vec<DVec3>,
     qefs: Vec<Qef>,
 }
+
+/// A cell's pieces: the vertex index of each local edge's piece (`u32::MAX` for
+/// none) and the number of pieces.
+type PieceIndex = ([u32; 12], u8);
 
 /// Every vertex with its leaf cell and its QEF.
 #[derive(Default)]

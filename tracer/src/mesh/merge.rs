@@ -164,7 +164,8 @@ impl Work {
             q.merge(&self.qefs[v as usize]);
         }
         let w = q.solve(lo, hi);
-        if !(q.residual(w) <= max_error * max_error) || !self.unfolded(&disk, w) {
+        let error = q.residual(w);
+        if error.is_nan() || error > max_error * max_error || !self.unfolded(&disk, w) {
             return;
         }
         self.apply(group, disk, w, q);
