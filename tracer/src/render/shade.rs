@@ -106,18 +106,26 @@ impl Samples {
         shape: &S,
         at: impl IntoIterator<Item = (DVec3, f64)>,
     ) -> impl ExactSizeIterator<Item = [f64; 6]> + 's {
-        for v in &mut self.xyz {
-            v.clear();
-        }
-        for (p, h) in at {
-            for q in samples(p, h) {
-                self.xyz[0].push(q.x);
-                self.xyz[1].push(q.y);
-                self.xyz[2].push(q.z);
+        self.values.clear();
+        if shape.tape_len().is_none() {
+            // Not a tape: its batch would go point by point anyway, without the staging.
+            for (p, h) in at {
+                self.values.extend(sample_values(shape, p, h));
             }
+        } else {
+            for v in &mut self.xyz {
+                v.clear();
+            }
+            for (p, h) in at {
+                for q in samples(p, h) {
+                    self.xyz[0].push(q.x);
+                    self.xyz[1].push(q.y);
+                    self.xyz[2].push(q.z);
+                }
+            }
+            let [x, y, z] = &self.xyz;
+            shape.eval_batch(x, y, z, &mut self.values);
         }
-        let [x, y, z] = &self.xyz;
-        shape.eval_batch(x, y, z, &mut self.values);
         self.values
             .chunks_exact(6)
             .map(|c| c.try_into().expect("six samples a point"))

@@ -84,8 +84,11 @@ struct Shader<'a, S> {
     /// The tile's level (`inf`: none).
     within: f64,
     samples: Samples,
-    /// The current group's samples, `(point, step)` per hit.
+    /// The current group's samples, `(point, step)` per hit, their values, and the
+    /// hits whose values are evaluated again on the exact shape.
     at: Vec<(DVec3, f64)>,
+    values: Vec<[f64; 6]>,
+    again: Vec<usize>,
 }
 
 /// One group's shapes: the exact one where already known (else the slice's, built
@@ -117,6 +120,8 @@ pub(super) fn shade_hits<A: Arithmetic, S: Shape>(
         within: f64::INFINITY,
         samples: Samples::default(),
         at: Vec::with_capacity(SHADE_GROUP),
+        values: Vec::with_capacity(SHADE_GROUP),
+        again: Vec::with_capacity(SHADE_GROUP),
     };
     if tiled.is_some() {
         let probes = hits.iter().take(LEVEL_PROBES).map(|h| sh.sample_at(h));
@@ -221,20 +226,26 @@ impl<'a, S: Shape> Shader<'a, S> {
         out: &mut TileOut,
     ) {
         let (root, within) = (self.ctx.root, self.within);
-        let mut values: Vec<Option<[f64; 6]>> = vec![None; group.len()];
-        out.stats.point_evals += 6 * group.len() as u64;
-        if let Some(f) = shapes.fast {
-            for (v, s) in values
-                .iter_mut()
-                .zip(self.samples.values(f, self.at.iter().copied()))
-            {
-                *v = Some(s).filter(|s| s.iter().all(|v| v.abs() < within));
+        let n = group.len();
+        self.values.clear();
+        self.values.resize(n, [f64::NAN; 6]);
+        self.again.clear();
+        out.stats.point_evals += 6 * n as u64;
+        match shapes.fast {
+            Some(f) => {
+                for (i, s) in self.samples.values(f, self.at.iter().copied()).enumerate() {
+                    if s.iter().all(|v| v.abs() < within) {
+                        self.values[i] = s;
+                    } else {
+                        self.again.push(i);
+                    }
+                }
             }
+            None => self.again.extend(0..n),
         }
-        let again: Vec<usize> = (0..group.len()).filter(|&i| values[i].is_none()).collect();
-        if !again.is_empty() {
+        if !self.again.is_empty() {
             if shapes.fast.is_some() {
-                out.stats.point_evals += 6 * again.len() as u64;
+                out.stats.point_evals += 6 * self.again.len() as u64;
             }
             let exact = shapes
                 .exact
@@ -245,14 +256,13 @@ impl<'a, S: Shape> Shader<'a, S> {
                 None
             };
             let e = slow.as_ref().unwrap_or(exact);
-            let at = again.iter().map(|&i| self.at[i]);
-            for (&i, s) in again.iter().zip(self.samples.values(e, at)) {
-                values[i] = Some(s);
+            let at = self.again.iter().map(|&i| self.at[i]);
+            for (&i, s) in self.again.iter().zip(self.samples.values(e, at)) {
+                self.values[i] = s;
             }
         }
-        for ((&(ray, t), &(p, step)), s) in group.iter().zip(&self.at).zip(values) {
-            let s = s.expect("every hit's samples are evaluated");
-            self.shade_hit::<A>(ray, t, p, step, &s, out);
+        for ((&(ray, t), &(p, step)), s) in group.iter().zip(&self.at).zip(&self.values) {
+            self.shade_hit::<A>(ray, t, p, step, s, out);
         }
     }
 
