@@ -3,7 +3,7 @@
 //!
 //! The handlers (from `signal-hook`, which keeps them async-signal-safe) only store to
 //! atomics; the work loops poll [`requested`] or the [`cancel_flag`] handed to
-//! [`crate::render::RenderOptions::cancel`]. A second signal ends the process at once
+//! a renderer's cancel option (`tracer::render::RenderOptions::cancel`). A second signal ends the process at once
 //! with status `128 + signal`, so a stuck run can still be force-quit. Elsewhere than
 //! unix, [`install`] does nothing and the flag is never set.
 
@@ -61,7 +61,7 @@ pub fn exit_code() -> u8 {
     }
 }
 
-/// The cancel flag for [`crate::render::RenderOptions::cancel`] and other loops; installs
+/// The cancel flag for a renderer's cancel option (`tracer::render::RenderOptions::cancel`) and other loops; installs
 /// the handlers if they were not.
 pub fn cancel_flag() -> Arc<AtomicBool> {
     install();
