@@ -18,7 +18,7 @@
 //! The choices live in a thread-local script, since [`Real`] values are created without
 //! a context (constants); one evaluation runs on one thread from start to end.
 
-use crate::shape::Shape;
+use model_ir::shape::Shape;
 use arith_core::branch::Step;
 use arith_core::dual::Dual;
 use arith_core::{Known, Real};

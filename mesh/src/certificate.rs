@@ -11,9 +11,8 @@
 //! product's lower bound is interval arithmetic over those ranges with the two factors
 //! taken independent (`p` and `q` are), rounded down.
 
-use super::grid::Clipped;
-use super::octree::cell_inputs;
-use crate::shape::{Aabb, Shape};
+use super::grid::{cell_inputs, Clipped};
+use model_ir::shape::{Aabb, Shape};
 use arith_core::dual::Dual;
 use arith_core::{Arithmetic, Range};
 
@@ -61,7 +60,7 @@ pub fn inner_product_lower_bound(g: &[(f64, f64); 3]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::arith::arith_revaa::RevAaArith;
+    use model_ir::arith::arith_revaa::RevAaArith;
     use arith_core::Real;
     use glam::DVec3;
 

@@ -13,10 +13,9 @@
 //! level must reach that sub-level. A crease (two sheets meeting at an edge) keeps the
 //! counts and costs no refinement.
 
-use super::grid::Grid;
-use super::octree::inside;
+use super::grid::{inside, Grid};
 use super::topology::UnionFind;
-use crate::shape::{Aabb, Shape};
+use model_ir::shape::{Aabb, Shape};
 
 /// How many levels below the leaf the lattice goes at most (`9^3` points).
 pub const MAX_LEVELS: u32 = 3;

@@ -12,13 +12,13 @@
 //! its four cells and the mesh stays closed.
 
 use super::edge_roots::{crossing, Crossing};
-use super::grid::{corner_of, edge_between, edge_corners, face_corners, key, unkey, Grid};
+use super::grid::{corner_of, edge_between, edge_corners, face_corners, inside, key, unkey, Grid};
 use super::merge::{merge, Clustered};
-use super::octree::inside;
 use super::patches::{pieces, NONE};
 use super::qef::Qef;
-use super::{Mesh, Ticker};
-use crate::shape::{Aabb, Shape};
+use crate::triangles::Mesh;
+use tracer_kit::progress::Ticker;
+use model_ir::shape::{Aabb, Shape};
 use arith_core::Arithmetic;
 use glam::DVec3;
 use rayon::prelude::*;

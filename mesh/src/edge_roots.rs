@@ -14,7 +14,7 @@
 
 use super::branches::{branches, Branch};
 use super::grid::Clipped;
-use crate::shape::{Aabb, Shape};
+use model_ir::shape::{Aabb, Shape};
 use arith_core::dual::Dual;
 use arith_core::{Arithmetic, Range, Real};
 use glam::DVec3;
@@ -189,7 +189,7 @@ pub fn normal<S: Shape>(f: &S, p: DVec3, axis: usize, lower_inside: bool) -> DVe
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::arith::arith_revaa::RevAaArith;
+    use model_ir::arith::arith_revaa::RevAaArith;
 
     /// Three parallel planes x = 0.1, 0.2, 0.3 (a sign change at each).
     struct Layers;

@@ -1,5 +1,7 @@
 //! The mesher's geometry: the cube of cells over the domain, cell and corner keys, the
-//! numbering of a cell's 8 corners, 12 edges and 6 faces, and the domain clip.
+//! numbering of a cell's 8 corners, 12 edges and 6 faces, the domain clip, and what every
+//! step asks of a cell: its inputs to range arithmetic ([`cell_inputs`]) and the signs
+//! of its corners ([`inside`], [`corner_mask`]).
 //!
 //! The cube is centred on the domain and has `2^depth` cells along each side, one cell
 //! wider than the domain's longest side: the domain reaches half a cell short of the
@@ -11,8 +13,8 @@
 //! Corners and cells are addressed by integer coordinates at one level, packed 21 bits
 //! per axis into a `u64` key ([`key`]), which bounds the depth at [`MAX_DEPTH`].
 
-use crate::shape::{Aabb, Shape};
-use arith_core::Real;
+use model_ir::shape::{Aabb, Shape};
+use arith_core::{Range, Real};
 use glam::DVec3;
 
 /// The deepest level the keys can address (corner coordinates up to `2^20`).
@@ -153,6 +155,37 @@ impl<S: Shape> Shape for Clipped<'_, S> {
     fn packs(&self) -> bool {
         self.inner.packs()
     }
+}
+
+/// The three independent inputs of a box (symbols 0, 1, 2), as culling's cells.
+pub fn cell_inputs<R: Range>(b: &Aabb) -> [R; 3] {
+    [
+        R::input(0, b.min.x, b.max.x),
+        R::input(1, b.min.y, b.max.y),
+        R::input(2, b.min.z, b.max.z),
+    ]
+}
+
+/// Whether `shape` clipped to `domain` is inside (`f >= 0`) at `p`.
+pub fn inside<S: Shape>(shape: &S, domain: &Aabb, p: glam::DVec3) -> bool {
+    let clipped = Clipped {
+        inner: shape,
+        domain: *domain,
+    };
+    // NaN counts as outside, as any value below 0.
+    clipped.eval(p.x, p.y, p.z) >= 0.0
+}
+
+/// The corner mask of cell `c` at `level` (bit `i`: corner `i` inside).
+pub fn corner_mask<S: Shape>(shape: &S, domain: &Aabb, g: &Grid, level: u32, c: [u32; 3]) -> u8 {
+    (0..8).fold(0u8, |m, i| {
+        m | (inside(shape, domain, g.point(level, corner_of(c, i))) as u8) << i
+    })
+}
+
+/// Whether a corner mask has a sign change.
+pub fn crosses(mask: u8) -> bool {
+    mask != 0 && mask != 0xff
 }
 
 #[cfg(test)]

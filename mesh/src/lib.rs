@@ -2,6 +2,8 @@
 //! contouring with vertices constrained to their cells, in any arithmetic and for any
 //! [`Shape`] (`tracer mesh` on the command line).
 //!
+//! The octree's cells and their corners are laid out by [`grid`], below every step.
+//!
 //! The steps, one module each:
 //! - [`octree`]: cells whose range of `f` (the arithmetic's cell form) excludes 0 are
 //!   dropped; a leaf whose range holds 0 while its corners agree is probed below the
@@ -20,7 +22,8 @@
 //!   [`consistency`]: a finer lattice where it fails, for shells thinner than a cell;
 //! - [`topology`] and [`self_intersections`]: what the result is (watertight,
 //!   manifold, Euler characteristic, intersecting triangle pairs over a BVH);
-//! - [`output`]: OBJ, binary PLY and binary STL, written atomically.
+//! - [`output`]: OBJ, binary PLY and binary STL, written atomically; [`triangles`]: the
+//!   mesh itself.
 //!
 //! The shape is meshed clipped to its domain (`min(f, box)`), so the mesh is closed;
 //! where the surface leaves the domain it is capped by the domain's faces. The leaf
@@ -32,10 +35,10 @@
 //! ## Example
 //!
 //! ```
-//! use tracer::arith::ArithKind;
-//! use tracer::arith_core::Real;
-//! use tracer::mesh::{mesh_kind, MeshOptions};
-//! use tracer::shape::{Aabb, Shape};
+//! use model_ir::arith::ArithKind;
+//! use model_ir::arith_core::Real;
+//! use tracer_mesh::{mesh_kind, MeshOptions};
+//! use model_ir::shape::{Aabb, Shape};
 //!
 //! /// A torus of radii 1 and 0.4 around the y axis (`f >= 0` inside).
 //! struct Torus;
@@ -52,8 +55,11 @@
 //! assert!(t.manifold());
 //! assert_eq!(t.euler, 0); // a torus: genus 1
 //! assert_eq!(m.stats.self_intersections, Some(0));
-//! # Ok::<(), tracer::mesh::MeshError>(())
+//! # Ok::<(), tracer_mesh::MeshError>(())
 //! ```
+
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
 
 pub mod branches;
 pub mod certificate;
@@ -68,10 +74,11 @@ pub mod patches;
 pub mod qef;
 pub mod self_intersections;
 pub mod topology;
+pub mod triangles;
 
-use crate::arith::ArithKind;
-use crate::render::Progress;
-use crate::shape::{check_domain, Aabb, Shape};
+use model_ir::arith::ArithKind;
+use tracer_kit::progress::{Progress, Ticker};
+use model_ir::shape::{check_domain, Aabb, Shape};
 use arith_core::Arithmetic;
 use rayon::prelude::*;
 use std::fmt;
@@ -79,28 +86,7 @@ use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 pub use topology::Topology;
-
-/// An indexed triangle mesh.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Mesh {
-    /// Vertex positions.
-    pub vertices: Vec<[f64; 3]>,
-    /// Triangles as indices into `vertices`, counter-clockwise seen from outside
-    /// (`f < 0`): the right-hand normal points outward.
-    pub triangles: Vec<[u32; 3]>,
-}
-
-impl Mesh {
-    /// Watertightness, manifoldness, winding, Euler characteristic, components.
-    pub fn topology(&self) -> Topology {
-        topology::topology(self)
-    }
-
-    /// Pairs of triangles that intersect other than in shared vertices and edges.
-    pub fn self_intersections(&self) -> u64 {
-        self_intersections::count(self)
-    }
-}
+pub use triangles::Mesh;
 
 /// What to mesh and how.
 #[derive(Clone, Debug)]
@@ -391,44 +377,6 @@ pub struct MeshResult {
     pub stats: MeshStats,
 }
 
-/// Progress in units whose total grows as the work is discovered.
-pub struct Ticker {
-    progress: Option<Arc<dyn Progress>>,
-    total: AtomicU64,
-}
-
-impl Ticker {
-    fn new(progress: Option<Arc<dyn Progress>>) -> Ticker {
-        Ticker {
-            progress,
-            total: AtomicU64::new(0),
-        }
-    }
-
-    /// `n` more units to do.
-    pub fn add_total(&self, n: u64) {
-        let t = self.total.fetch_add(n, Ordering::Relaxed) + n;
-        if let Some(p) = &self.progress {
-            p.start(t);
-        }
-    }
-
-    /// `n` units done.
-    pub fn tick(&self, n: u64) {
-        if let Some(p) = &self.progress {
-            for _ in 0..n {
-                p.tile_done();
-            }
-        }
-    }
-
-    fn finish(&self) {
-        if let Some(p) = &self.progress {
-            p.finish();
-        }
-    }
-}
-
 /// Meshes `shape` over `opts.domain` in the arithmetic `A`.
 ///
 /// Errors: invalid options, a leaf level over the memory limit, or cancellation.
@@ -452,7 +400,7 @@ pub fn mesh_kind<S: Shape>(
     shape: &S,
     opts: &MeshOptions,
 ) -> Result<MeshResult, MeshError> {
-    crate::with_arith!(kind, A => mesh::<A, S>(shape, opts))
+    model_ir::with_arith!(kind, A => mesh::<A, S>(shape, opts))
 }
 
 fn run<A: Arithmetic, S: Shape>(

@@ -363,7 +363,7 @@ mod tests {
         let before = m.triangles.len();
         let (v, t, removed) = merge(m, 4, 0.01, |l, c| unit_box(l, c, 4));
         assert!(removed > 0 && t.len() < before, "{} -> {}", before, t.len());
-        let mesh = crate::mesh::Mesh {
+        let mesh = crate::Mesh {
             vertices: v.iter().map(|p| p.to_array()).collect(),
             triangles: t,
         };

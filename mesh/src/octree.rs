@@ -26,9 +26,9 @@
 
 use super::certificate::certified;
 use super::consistency::finer_topology;
-use super::grid::{corner_of, Clipped, Grid};
-use crate::search::batch::Batch;
-use crate::shape::{Aabb, Shape};
+use super::grid::{cell_inputs, corner_mask, corner_of, crosses, Clipped, Grid};
+use model_ir::shape_batch::Batch;
+use model_ir::shape::{Aabb, Shape};
 use arith_core::{Arithmetic, Range};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -298,41 +298,10 @@ pub fn child(c: [u32; 3], i: usize) -> [u32; 3] {
     corner_of([2 * c[0], 2 * c[1], 2 * c[2]], i)
 }
 
-/// The three independent inputs of a box (symbols 0, 1, 2), as culling's cells.
-pub fn cell_inputs<R: Range>(b: &Aabb) -> [R; 3] {
-    [
-        R::input(0, b.min.x, b.max.x),
-        R::input(1, b.min.y, b.max.y),
-        R::input(2, b.min.z, b.max.z),
-    ]
-}
-
-/// Whether `shape` clipped to `domain` is inside (`f >= 0`) at `p`.
-pub fn inside<S: Shape>(shape: &S, domain: &Aabb, p: glam::DVec3) -> bool {
-    let clipped = Clipped {
-        inner: shape,
-        domain: *domain,
-    };
-    // NaN counts as outside, as any value below 0.
-    clipped.eval(p.x, p.y, p.z) >= 0.0
-}
-
-/// The corner mask of cell `c` at `level` (bit `i`: corner `i` inside).
-pub fn corner_mask<S: Shape>(shape: &S, domain: &Aabb, g: &Grid, level: u32, c: [u32; 3]) -> u8 {
-    (0..8).fold(0u8, |m, i| {
-        m | (inside(shape, domain, g.point(level, corner_of(c, i))) as u8) << i
-    })
-}
-
-/// Whether a corner mask has a sign change.
-pub fn crosses(mask: u8) -> bool {
-    mask != 0 && mask != 0xff
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::arith::arith_ia::IaArith;
+    use model_ir::arith::arith_ia::IaArith;
     use arith_core::Real;
     use glam::DVec3;
 

@@ -9,7 +9,7 @@
 //! target's name. [`check`] refuses a path before any work: an unknown extension, a
 //! directory, a directory that does not exist or cannot be written.
 
-use super::Mesh;
+use crate::triangles::Mesh;
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -75,7 +75,7 @@ fn temp_path(path: &Path) -> PathBuf {
 /// renamed into place.
 ///
 /// ```
-/// use tracer::mesh::{output, Mesh};
+/// use tracer_mesh::{output, Mesh};
 /// let m = Mesh {
 ///     vertices: vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
 ///     triangles: vec![[0, 1, 2]],

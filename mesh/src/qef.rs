@@ -102,8 +102,8 @@ impl Qef {
     /// The minimiser of `E` over the box `[lo, hi]` (always inside it).
     ///
     /// ```
-    /// use tracer::glam::DVec3;
-    /// use tracer::mesh::qef::Qef;
+    /// use glam::DVec3;
+    /// use tracer_mesh::qef::Qef;
     /// // Three faces of a cube meeting at (0.3, 0.3, 0.3): the vertex finds the corner.
     /// let mut q = Qef::default();
     /// q.add(DVec3::new(0.3, 0.1, 0.2), DVec3::X);

@@ -18,7 +18,7 @@
 //! - two shared vertices (a shared edge): they intersect only when folded onto each
 //!   other, coplanar with the other vertices on the same side of the edge.
 
-use super::Mesh;
+use crate::triangles::Mesh;
 use glam::DVec3;
 use rayon::prelude::*;
 
@@ -201,6 +201,13 @@ fn folded(a: &[DVec3; 3], b: &[DVec3; 3], shared: &[(usize, usize)]) -> bool {
     let scale = na.length() * nb.length();
     // Coplanar and on the same side: the normals of (p, q, ta) and (p, q, tb) agree.
     scale > 0.0 && na.dot(nb) >= scale * (1.0 - 1e-12)
+}
+
+impl Mesh {
+    /// Pairs of triangles that intersect other than in shared vertices and edges.
+    pub fn self_intersections(&self) -> u64 {
+        count(self)
+    }
 }
 
 #[cfg(test)]

@@ -4,7 +4,7 @@
 //! of analytic shapes; they depend on the connectivity only, never on coordinates
 //! (apart from [`Topology::degenerate`], triangles of zero area).
 
-use super::Mesh;
+use crate::triangles::Mesh;
 use glam::DVec3;
 use rustc_hash::FxHashMap;
 
@@ -163,6 +163,13 @@ impl UnionFind {
         if ra != rb {
             self.0[ra.max(rb)] = ra.min(rb);
         }
+    }
+}
+
+impl Mesh {
+    /// Watertightness, manifoldness, winding, Euler characteristic, components.
+    pub fn topology(&self) -> Topology {
+        topology(self)
     }
 }
 

@@ -3,7 +3,7 @@
 //! [`with_arith!`](crate::with_arith) are all generated from the list in
 //! [`arith_list!`](crate::arith_list), so adding an arithmetic is one crate implementing
 //! [`arith_core::Range`] and [`arith_core::Arithmetic`] plus one line there (and the
-//! crate among the workspace's and `tracer`'s dependencies in `Cargo.toml`).
+//! crate among the workspace's and `model-ir`'s dependencies in `Cargo.toml`).
 
 use std::fmt;
 use std::str::FromStr;

@@ -98,7 +98,7 @@ impl Camera {
 
     /// The un-normalised direction `forward + dx*right + dy*up'` through continuous pixel
     /// coordinates `(px, py)`. Its component along `forward` is exactly 1 (up to rounding),
-    /// which [`crate::search::cull`] uses: distance along `forward` parametrises a bundle.
+    /// which `tracer::search::cull` uses: distance along `forward` parametrises a bundle.
     /// Orthographic: `forward` for every pixel.
     #[inline]
     pub fn raw_dir(&self, px: f64, py: f64) -> DVec3 {
@@ -114,7 +114,7 @@ impl Camera {
 
     /// Where the ray through continuous pixel coordinates `(px, py)` starts: the eye of
     /// a pinhole, the point of the image plane of an orthographic view (affine in
-    /// `(px, py)`, which [`crate::search::cull`] uses).
+    /// `(px, py)`, which `tracer::search::cull` uses).
     #[inline]
     pub fn origin_at(&self, px: f64, py: f64) -> DVec3 {
         match self.ortho {

@@ -31,7 +31,7 @@ pub trait Shape: Send + Sync {
     /// Whether [`Shape::eval`] over a pack of four forms ([`arith_core::pack`]) gives,
     /// lane by lane, what it gives over each form alone: true for code written with the
     /// [`Real`] operations only. A shape that looks at the concrete type of its arguments
-    /// (noise over ranges, see [`crate::models::noise`]) does not know the pack types and says
+    /// (noise over ranges, see `model_sources::noise`) does not know the pack types and says
     /// false; the tracer then evaluates its forms one at a time.
     fn packs(&self) -> bool {
         true
@@ -50,7 +50,7 @@ pub trait Shape: Send + Sync {
     }
 
     /// The number of instructions one evaluation runs, for a shape that is a tape
-    /// (counted in [`crate::render::RenderStats::range_ops`]); `None` otherwise.
+    /// (counted in `tracer::render::RenderStats::range_ops`); `None` otherwise.
     fn tape_len(&self) -> Option<usize> {
         None
     }
@@ -62,7 +62,7 @@ pub trait Shape: Send + Sync {
     /// one range over all of it. Its values
     /// are not this shape's, and it means nothing outside the region: callers use it
     /// for range tests and root finding inside the region only, and shade with the
-    /// whole shape. Formula tapes implement it ([`crate::models::formula::Tape::specialise`]).
+    /// whole shape. Formula tapes implement it ([`crate::Tape::specialise`]).
     fn specialise<R: Range>(&self, regions: &[[R; 3]]) -> Option<Self>
     where
         Self: Sized,

@@ -1,6 +1,6 @@
 //! Batches: the ranges of many inputs of one shape in one call, for the drivers that
-//! run many searches in lock-step (the rays of a tile in [`super::ray`], the cells of a
-//! tile's culling in [`super::cull`]). A driver groups its searches by the shape they
+//! run many searches in lock-step (the rays of a tile in `tracer::search::ray`, the cells of a
+//! tile's culling in `tracer::search::cull`). A driver groups its searches by the shape they
 //! are on; each group is evaluated here through [`Shape::eval_batch`] (for a tape, each
 //! instruction over every lane before the next: the interpreter's dispatch is paid once
 //! per instruction per batch, not per input), in [packs](Pack) of [`LANES`] forms where

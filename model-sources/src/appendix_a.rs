@@ -6,7 +6,7 @@
 //! a margin around the solid; views frame the solid in a three-quarter view.
 
 use super::{AnyShape, Model};
-use crate::shape::{Aabb, Shape, View};
+use model_ir::shape::{Aabb, Shape, View};
 use arith_core::rfunc::{
     blend_intersect, blend_union, hf_blend_intersect, hf_blend_union, intersect, subtract, union,
 };
@@ -38,7 +38,7 @@ pub enum PaperModel {
     Hair,
     /// A hemispherical shell with a sine microstructure.
     SphereMicrostructure,
-    /// Virtual Shikki: a sake set on a table, the HyperFun program `models/shikki.hf`.
+    /// Virtual Shikki: a sake set on a table, the HyperFun program `data/shikki.hf` of this crate.
     Shikki,
 }
 
@@ -107,7 +107,7 @@ impl PaperModel {
             PaperModel::CsgBlendingPrinted => "(((c1 vb c2) ^b s) vb b) ^b (-c3) with the paper's blends, read literally",
             PaperModel::Hair => "o | ((hair pattern - 10) & (o + 2) & y): ellipsoid head with procedural hair",
             PaperModel::SphereMicrostructure => "((ball & lattice of bars) | shell) & (-z)",
-            PaperModel::Shikki => "stand | cup | sake pot | table: the HyperFun program models/shikki.hf",
+            PaperModel::Shikki => "stand | cup | sake pot | table: the HyperFun program data/shikki.hf",
         }
     }
 
@@ -296,8 +296,8 @@ impl Shape for PaperModel {
     }
 }
 
-/// The HyperFun source of Virtual Shikki, shipped as `models/shikki.hf`.
-pub const SHIKKI_HF: &str = include_str!("../../../models/shikki.hf");
+/// The HyperFun source of Virtual Shikki, shipped as `data/shikki.hf` of this crate.
+pub const SHIKKI_HF: &str = include_str!("../data/shikki.hf");
 
 /// Virtual Shikki compiled once; `None` only if the shipped file did not compile, which
 /// a test rules out.
@@ -533,7 +533,7 @@ mod tests {
 
     #[test]
     fn shikki_compiles_and_branches() {
-        let t = shikki_tape().expect("models/shikki.hf compiles");
+        let t = shikki_tape().expect("data/shikki.hf compiles");
         assert!(t.has_branches() && !PaperModel::Shikki.packs());
         // Inside the table top and the pot's body; outside high above the scene.
         assert!(PaperModel::Shikki.eval(0.0, -0.75, 0.0) > 0.0);

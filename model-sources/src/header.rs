@@ -10,11 +10,11 @@
 //! it after optional blanks, then `:`. Such lines may stand anywhere in the file, each
 //! key at most once. A `view:` line names any of its fields, separated by blanks;
 //! those left out come from the view that frames the domain
-//! ([`crate::camera::frame_box`]). `ortho=WIDTH` makes the view orthographic, `WIDTH`
+//! ([`model_ir::camera::frame_box`]). `ortho=WIDTH` makes the view orthographic, `WIDTH`
 //! model units across the image. Other comment lines are plain comments. Flags on the
 //! command line override what the header states.
 
-use crate::shape::{check_domain, Aabb, View};
+use model_ir::shape::{check_domain, Aabb, View};
 use glam::DVec3;
 
 /// What a header states; `None` where it is silent.

@@ -1,25 +1,30 @@
+//! # model-sources: the models and model readers of reliable implicit-surface rendering
+//!
 //! Model sources and their one registry: every command that takes a model (`render`,
 //! `range`, `preview`, the benches) looks it up here ([`load`]), so a model that
 //! `tracer list` shows, or a model file, works everywhere. Each source turns its input
 //! into an [`AnyShape`] with a domain box and a default view: [`appendix_a`] (the
-//! revised-affine paper's models), [`progressive`] (the progressive-refinement paper's
+//! revised-affine paper's models), [`gamito_maddock`] (the progressive-refinement paper's
 //! models, with [`noise`]), [`formula`] (formulas parsed from text into a tape) and the
 //! model files of [`FORMATS`]: formula files (`.expr`), fidget tapes ([`vm`], `.vm`)
 //! and HyperFun programs ([`hyperfun`], `.hf`, compiled onto the same tape), each read
 //! by one parse function. A file's [`header`] may state its domain and view.
 
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+
 pub mod appendix_a;
 pub mod formula;
+pub mod gamito_maddock;
 pub mod header;
 pub mod hyperfun;
 pub mod noise;
-pub mod progressive;
 pub mod vm;
 
 pub use appendix_a::PaperModel;
-pub use progressive::GmModel;
+pub use gamito_maddock::GmModel;
 
-use crate::shape::{Aabb, Shape, View};
+use model_ir::shape::{Aabb, Shape, View};
 use arith_core::Real;
 use model_ir::Tape;
 use std::path::Path;
@@ -161,12 +166,12 @@ impl Model {
     }
 
     /// A model of the formula `text` (see [`formula`]) over `domain` (default
-    /// `[-2, 2]^3`), viewed by [`crate::camera::frame_box`] of the domain. Errors: the
+    /// `[-2, 2]^3`), viewed by [`model_ir::camera::frame_box`] of the domain. Errors: the
     /// formula's parse error, or a domain too large to frame.
     pub fn formula(text: &str, domain: Option<Aabb>) -> Result<Model, String> {
         let tape = formula::parse(text).map_err(|e| e.to_string())?;
         let domain = domain.unwrap_or(Aabb::cube(2.0));
-        let view = crate::camera::frame_box(&domain)?;
+        let view = model_ir::camera::frame_box(&domain)?;
         Ok(Model {
             name: "expr".into(),
             description: text.trim().to_string(),
@@ -179,12 +184,12 @@ impl Model {
 
     /// A model of the HyperFun program `text` (see [`hyperfun`]; its `my_model`, else
     /// its first body) over `domain`, by default HyperFun's `[-10, 10]^3` (the `hfp`
-    /// polygonizer's default box), viewed by [`crate::camera::frame_box`] of the domain.
+    /// polygonizer's default box), viewed by [`model_ir::camera::frame_box`] of the domain.
     /// Errors: the program's error (line and column), or a domain too large to frame.
     pub fn hyperfun(text: &str, domain: Option<Aabb>) -> Result<Model, String> {
         let tape = hyperfun::parse_hyperfun(text).map_err(|e| e.to_string())?;
         let domain = domain.unwrap_or(Aabb::cube(hyperfun::DEFAULT_DOMAIN));
-        let view = crate::camera::frame_box(&domain)?;
+        let view = model_ir::camera::frame_box(&domain)?;
         Ok(Model {
             name: "hyperfun".into(),
             description: "a HyperFun program".into(),
@@ -282,7 +287,7 @@ fn formula_file(text: &str, path: &str) -> Result<Model, String> {
         description: format!("formula file {path} ({} instructions)", tape.len()),
         shape: AnyShape::Expr(tape),
         domain,
-        view: crate::camera::frame_box(&domain)?,
+        view: model_ir::camera::frame_box(&domain)?,
         lipschitz: None,
     })
 }
@@ -295,7 +300,7 @@ fn vm_file(text: &str, path: &str) -> Result<Model, String> {
         description: format!("fidget tape {path}, negated ({} instructions)", tape.len()),
         shape: AnyShape::Expr(tape),
         domain,
-        view: crate::camera::frame_box(&domain)?,
+        view: model_ir::camera::frame_box(&domain)?,
         lipschitz: None,
     })
 }
@@ -309,7 +314,7 @@ fn hf_file(text: &str, path: &str) -> Result<Model, String> {
         description: format!("HyperFun program {path} ({} instructions)", tape.len()),
         shape: AnyShape::Expr(tape),
         domain,
-        view: crate::camera::frame_box(&domain)?,
+        view: model_ir::camera::frame_box(&domain)?,
         lipschitz: None,
     })
 }
@@ -364,7 +369,7 @@ pub fn from_text(
     }
     if dom.is_some() || !h.view.is_empty() {
         let base =
-            crate::camera::frame_box(&model.domain).map_err(|e| format!("{path}: domain: {e}"))?;
+            model_ir::camera::frame_box(&model.domain).map_err(|e| format!("{path}: domain: {e}"))?;
         model.view = h.view.apply(base);
     }
     Ok(model)
@@ -443,7 +448,7 @@ pub fn all() -> Vec<Model> {
         .iter()
         .map(|m| m.model())
         .collect();
-    v.extend(progressive::all());
+    v.extend(gamito_maddock::all());
     v
 }
 
@@ -452,7 +457,7 @@ pub fn builtin_names() -> Vec<String> {
     appendix_a::PaperModel::ALL
         .iter()
         .map(|m| m.name().to_string())
-        .chain(progressive::GmModel::all().iter().map(|m| m.name()))
+        .chain(gamito_maddock::GmModel::all().iter().map(|m| m.name()))
         .collect()
 }
 
@@ -468,7 +473,7 @@ pub fn find(name: &str) -> Result<Model, String> {
     if let Some(m) = appendix_a::PaperModel::ALL.iter().find(|m| is(m.name())) {
         return Ok(m.model());
     }
-    let gm = progressive::GmModel::all();
+    let gm = gamito_maddock::GmModel::all();
     if let Some(m) = gm.iter().find(|m| is(&m.name())) {
         return Ok(m.model());
     }

@@ -13,11 +13,11 @@
 //!
 //! # How a generic `R: Real` is told apart
 //!
-//! [`crate::shape::Shape::eval`] is generic over [`Real`] only; [`Real::known`] tells a
+//! [`model_ir::shape::Shape::eval`] is generic over [`Real`] only; [`Real::known`] tells a
 //! point from a range (and gives its bounds), [`Real::from_bounds`] builds the range.
 //! For [`Dual`] numbers, whose gradient needs the field's own gradient bound,
 //! [`eval_field`] looks at the concrete type with [`Any`]: `Dual` over `f64` and over the
-//! ray and cell forms of every arithmetic in [`crate::arith::ArithKind`]. For any other
+//! ray and cell forms of every arithmetic in [`model_ir::arith::ArithKind`]. For any other
 //! type (an operation counter) it returns `1 / 0`, which is `+inf` for points and the
 //! whole line for every sound range: sound, if useless.
 
@@ -40,11 +40,11 @@ pub(crate) fn cast<A: 'static, B: 'static>(v: A) -> Option<B> {
 }
 
 /// Calls `$m!(T)` for the ray and cell form of every arithmetic in the one list
-/// ([`crate::arith::ArithKind`]), so a new arithmetic needs no line here.
+/// ([`model_ir::arith::ArithKind`]), so a new arithmetic needs no line here.
 macro_rules! for_each_range {
     ($m:ident) => {
-        for kind in $crate::arith::ArithKind::ALL {
-            $crate::with_arith!(kind, A => {
+        for kind in $model_ir::arith::ArithKind::ALL {
+            $model_ir::with_arith!(kind, A => {
                 $m!(<A as Arithmetic>::Ray);
                 $m!(<A as Arithmetic>::Cell);
             });

@@ -36,8 +36,6 @@ pub use compile::{compile, CompileError, ToFormula};
 pub use model_ir::{Instr, Op, Tape, CACHE_LIMIT, EPS, MIN_SPECIALISE_LEN};
 pub use parse::{parse_program, ParseError, MAX_EXPONENT, MAX_NESTING, MAX_TREE_DEPTH};
 
-use crate::shape::Shape;
-use arith_core::Real;
 
 /// The text of [`SYNTAX`], also the item's rustdoc.
 macro_rules! syntax_text {
@@ -87,52 +85,4 @@ pub fn parse(src: &str) -> Result<Tape, ParseError> {
         line: 1,
         column: 1,
     })
-}
-
-impl Shape for Tape {
-    fn eval<R: Real>(&self, x: R, y: R, z: R) -> R {
-        Tape::eval(self, x, y, z)
-    }
-
-    fn eval_batch<R: Real>(&self, x: &[R], y: &[R], z: &[R], out: &mut Vec<R>) {
-        Tape::eval_batch(self, x, y, z, out)
-    }
-
-    /// Steps and selections look at their values ([`arith_core::Real::known`]), which
-    /// packs do not answer: a tape with them evaluates its forms one at a time.
-    fn packs(&self) -> bool {
-        !self.has_branches()
-    }
-
-    fn specialises(&self) -> bool {
-        Tape::specialises(self)
-    }
-
-    fn specialises_values(&self) -> bool {
-        Tape::specialises_values(self)
-    }
-
-    fn tape_len(&self) -> Option<usize> {
-        Some(self.len())
-    }
-
-    fn specialise<R: arith_core::Range>(&self, regions: &[[R; 3]]) -> Option<Self> {
-        Tape::specialise(self, regions)
-    }
-
-    fn specialise_groups<R: arith_core::Range>(
-        &self,
-        regions: &[[R; 3]],
-        groups: &[(usize, usize)],
-    ) -> (Vec<Self>, Vec<Option<usize>>) {
-        Tape::specialise_groups(self, regions, groups)
-    }
-
-    fn specialise_values<R: arith_core::Range>(
-        &self,
-        region: &[R; 3],
-        within: f64,
-    ) -> Option<Self> {
-        Tape::specialise_values(self, region, within)
-    }
 }

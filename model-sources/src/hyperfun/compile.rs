@@ -14,12 +14,12 @@
 //!   branch of an `if`. A loop that has not ended after [`MAX_ITERATIONS`] iterations (or
 //!   [`MAX_OPEN_ITERATIONS`] that depend on the point) is an error.
 //!
-//! [`Op::Select`]: crate::models::formula::Op::Select
+//! [`Op::Select`]: crate::formula::Op::Select
 
 use super::lib::{self, Arg, Ctx, Kind, LIBRARY};
 use super::parse::{Body, HBin, HExpr, Pos, Stmt};
 use super::HfError;
-use crate::models::formula::{folded_const, BinOp, Binding, Expr, Func, Program, Var, EPS};
+use crate::formula::{folded_const, BinOp, Binding, Expr, Func, Program, Var, EPS};
 use std::collections::HashMap;
 
 /// Most iterations of one `while` loop.

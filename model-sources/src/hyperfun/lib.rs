@@ -12,7 +12,7 @@
 //! argument in place and return 1, as in HyperFun.
 
 use super::HfError;
-use crate::models::formula::{BinOp, Expr, Func, EPS};
+use crate::formula::{BinOp, Expr, Func, EPS};
 
 /// The sentinel the library returns for degenerate parameters.
 pub const SENTINEL: f64 = -1111111111111.0;

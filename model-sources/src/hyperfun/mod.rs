@@ -1,5 +1,5 @@
 //! HyperFun programs (`.hf`): a subset of the HyperFun language, compiled onto the
-//! formula tape ([`crate::models::formula::Tape`]), so a HyperFun model renders in every
+//! formula tape ([`crate::formula::Tape`]), so a HyperFun model renders in every
 //! arithmetic like any other model.
 //!
 //! The language follows its reference implementation, the HyperFun interpreter and
@@ -35,7 +35,7 @@ pub mod lex;
 pub mod lib;
 pub mod parse;
 
-use crate::models::formula::Tape;
+use crate::formula::Tape;
 use std::fmt;
 
 /// A HyperFun program that cannot be compiled: where (1-based line and column, in
@@ -119,6 +119,6 @@ pub fn parse_hyperfun_with(text: &str, opts: &HfOptions) -> Result<Tape, HfError
     };
     let program = compile::Compiler::new(&bodies).model(k, &opts.params)?;
     let p = bodies[k].pos;
-    crate::models::formula::compile(&program)
+    crate::formula::compile(&program)
         .map_err(|e| HfError::new(p.line, p.col, format!("internal error: {e}")))
 }

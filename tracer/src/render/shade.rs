@@ -1,8 +1,8 @@
 //! Shading: normals by central finite differences of the point function, Lambert plus
 //! Blinn-Phong with one directional light, and the background colour for misses.
 
-use crate::camera::Camera;
-use crate::shape::Shape;
+use model_ir::camera::Camera;
+use model_ir::shape::Shape;
 use glam::DVec3;
 
 /// Colour of pixels whose ray misses the surface.

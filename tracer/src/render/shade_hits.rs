@@ -19,9 +19,10 @@
 use super::shade::{self, Samples};
 use super::tile_shapes::{self, TileShapes};
 use super::value_tree::ValueTree;
-use super::{RenderStats, TileCtx, TileOut, TileRays};
+use super::types::{RenderStats, TileCtx, TileOut};
+use crate::search::tile_rays::TileRays;
 use crate::search::ray::{clip, first_root, Precision, RayJob, RayParams, RayStats, Start};
-use crate::shape::{Aabb, Shape};
+use model_ir::shape::{Aabb, Shape};
 use arith_core::Arithmetic;
 use arith_ia::Interval;
 use glam::DVec3;

@@ -25,7 +25,7 @@
 //! the 1024 leaf slices are shaded from.
 
 use crate::search::cull::Culler;
-use crate::shape::{Aabb, Shape};
+use model_ir::shape::{Aabb, Shape};
 use arith_core::Range;
 use arith_ia::Interval;
 use glam::DVec3;

@@ -8,7 +8,7 @@
 
 use super::cone::{frustum_box, ConeEnd};
 use super::ray::{Pruner, MARCH_GROWTH};
-use crate::shape::{Aabb, Shape};
+use model_ir::shape::{Aabb, Shape};
 use arith_core::round::{up_finite, ETA, U};
 use arith_core::{Arithmetic, Range};
 use glam::DVec3;

@@ -5,7 +5,7 @@
 //! `|f(x)| / λ` around `x` holds no root of `f` inside the domain: for `y` in both,
 //! `|f(y)| >= |f(x)| - λ |x - y| > 0`.
 
-use crate::shape::{Aabb, Shape};
+use model_ir::shape::{Aabb, Shape};
 use arith_core::dual::Dual;
 use arith_core::round::up;
 use arith_core::{Range, Real};

@@ -15,7 +15,7 @@
 //! rounding of a ray's depth), so a shape is only ever used where it has the sign of
 //! the whole one.
 
-use crate::shape::Shape;
+use model_ir::shape::Shape;
 use arith_core::Range;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, OnceLock};

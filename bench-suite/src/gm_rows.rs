@@ -5,8 +5,8 @@
 //! spell of the machine hits every method alike; a row keeps its median.
 
 use super::{raycast, Bound, Caster, Engine, Options, Step};
-use crate::arith::ArithKind;
-use crate::models::Model;
+use model_ir::arith::ArithKind;
+use model_sources::Model;
 use crate::search::lipschitz::DEFAULT_OVERSHOOT;
 use std::time::Instant;
 
