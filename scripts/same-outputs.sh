@@ -9,7 +9,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if [ -z "${TRACER:-}" ]; then
-    cargo build --release -q -p tracer --bin tracer
+    cargo build --release -q -p tracer-cli --bin tracer
     TRACER=target/release/tracer
 fi
 size=${SIZE:-96x72}

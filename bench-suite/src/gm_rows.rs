@@ -4,10 +4,10 @@
 //! Times are measured in rounds, every method once per round in turn, so that a slow
 //! spell of the machine hits every method alike; a row keeps its median.
 
-use super::{raycast, Bound, Caster, Engine, Options, Step};
+use tracer::progressive::{raycast, Bound, Caster, Engine, Options, Step};
 use model_ir::arith::ArithKind;
 use model_sources::Model;
-use crate::search::lipschitz::DEFAULT_OVERSHOOT;
+use tracer::search::lipschitz::DEFAULT_OVERSHOOT;
 use std::time::Instant;
 
 /// One row of the previewer benchmark (the paper's Table 1 and Fig. 9).

@@ -9,7 +9,7 @@
 //! not guaranteed over the whole box; those rows only measure what the counts would be.
 
 use std::fmt::Write as _;
-use tracer::models::Model;
+use model_sources::Model;
 use tracer::progressive::{raycast, Bound, Caster, Engine, Options};
 use tracer::search::lipschitz::DEFAULT_OVERSHOOT;
 

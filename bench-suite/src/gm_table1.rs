@@ -1,5 +1,5 @@
 //! The progressive-refinement paper's Table 1 and Fig. 9 (Gamito and Maddock 2007),
-//! measured with [`tracer::progressive::bench_table`]: wall time and point evaluations of
+//! measured with [`crate::gm_rows::bench_table`]: wall time and point evaluations of
 //! the previewer, the overshooting and the standard Lipschitz ray casters (plus the
 //! local-bound variants, past the paper), with the paper's numbers beside ours.
 //!
@@ -9,8 +9,8 @@
 use crate::chart::{self, Bar, Group};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use tracer::models::Model;
-use tracer::progressive::BenchRow;
+use model_sources::Model;
+use crate::gm_rows::BenchRow;
 
 /// The paper's resolution for Table 1 and Figs. 5-7 (Section 4: "800x800 pixels").
 pub const DEFAULT_SIZE: u32 = 800;
@@ -26,7 +26,7 @@ pub const FIRST_FRAME_GOAL_S: f64 = 0.1;
 pub const RAY_CASTERS: [&str; 2] = ["overshoot-rc", "standard-rc"];
 /// Every method `bench_table` reports, in display order.
 pub fn methods() -> Vec<String> {
-    tracer::progressive::bench_methods()
+    crate::gm_rows::bench_methods()
         .into_iter()
         .map(|(n, _)| n)
         .collect()
@@ -113,7 +113,7 @@ pub fn fig9_default_methods() -> Vec<String> {
 /// The previewer whose counts the goals judge: the default bound mode of `tracer
 /// preview` ([`tracer::progressive::DEFAULT_BOUND`]).
 pub fn goal_previewer() -> String {
-    tracer::progressive::previewer_method(tracer::progressive::DEFAULT_BOUND)
+    crate::gm_rows::previewer_method(tracer::progressive::DEFAULT_BOUND)
 }
 
 /// Checks comma-separated method names against [`methods`].
@@ -139,10 +139,10 @@ pub fn parse_methods(s: &str) -> Result<Vec<String>, String> {
     Ok(v)
 }
 
-/// Looks up comma-separated model names among [`tracer::models::progressive::all`], keeping the
+/// Looks up comma-separated model names among [`model_sources::gamito_maddock::all`], keeping the
 /// given order and dropping repeats.
 pub fn parse_models(s: &str) -> Result<Vec<Model>, String> {
-    let all = tracer::models::progressive::all();
+    let all = model_sources::gamito_maddock::all();
     let mut out: Vec<Model> = Vec::new();
     for name in s.split(',').map(str::trim).filter(|n| !n.is_empty()) {
         let m = all
@@ -217,7 +217,7 @@ fn bench(m: &Model, o: &Options) -> Result<Vec<BenchRow>, String> {
     }
     let keep = |name: &str| o.methods.is_empty() || o.methods.iter().any(|k| k == name);
     let rows =
-        tracer::progressive::bench_rounds(std::slice::from_ref(m), size, size, o.rounds, &keep)?;
+        crate::gm_rows::bench_rounds(std::slice::from_ref(m), size, size, o.rounds, &keep)?;
     if verbose {
         for r in &rows {
             eprintln!(
@@ -232,15 +232,15 @@ fn bench(m: &Model, o: &Options) -> Result<Vec<BenchRow>, String> {
 /// Runs Table 1 and Fig. 9 (reusing a Table 1 model that Fig. 9 also needs) and writes
 /// `progressive.md`, `progressive.csv`, `fig9.csv`, `fig9.png` and `fig9-evals.png`.
 pub fn run(o: &Options) -> Result<Report, String> {
-    let max = tracer::camera::MAX_SIDE;
+    let max = model_ir::camera::MAX_SIDE;
     if o.size == 0 || o.size > max {
         return Err(format!("--size {} must be between 1 and {max}", o.size));
     }
-    if o.layers > u32::from(tracer::models::progressive::MAX_LAYERS) {
+    if o.layers > u32::from(model_sources::gamito_maddock::MAX_LAYERS) {
         return Err(format!(
             "--layers {} must be at most {}",
             o.layers,
-            tracer::models::progressive::MAX_LAYERS
+            model_sources::gamito_maddock::MAX_LAYERS
         ));
     }
     std::fs::create_dir_all(&o.out)

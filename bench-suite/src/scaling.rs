@@ -9,8 +9,8 @@
 use crate::table1::{render_once, resolution};
 use std::fmt::Write as _;
 use std::time::Duration;
-use tracer::arith::ArithKind;
-use tracer::models::PaperModel;
+use model_ir::arith::ArithKind;
+use model_sources::PaperModel;
 
 /// What to run.
 #[derive(Clone, Debug)]

@@ -7,12 +7,13 @@
 //! written (the mesh goes to a temporary file renamed into place), the exit code is
 //! 130.
 
-use crate::arith::ArithKind;
-use crate::mesh::{
+use model_ir::arith::ArithKind;
+use tracer_mesh::{
     mesh_kind, output, MeshError, MeshOptions, MeshResult, MeshStats, DEFAULT_EXTRA_DEPTH,
 };
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
+use crate::stats_json::{json_string, stats_json};
 
 /// The default `--depth`.
 pub const DEFAULT_DEPTH: u32 = 6;
@@ -22,7 +23,7 @@ pub const DEFAULT_DEPTH: u32 = 6;
 pub struct MeshArgs {
     /// The model: see `tracer render --help`.
     #[command(flatten)]
-    pub src: super::ModelArgs,
+    pub src: crate::args::ModelArgs,
     /// Output mesh: .obj, .ply (binary, indexed) or .stl (binary) (default:
     /// <model>.stl).
     #[arg(long)]
@@ -70,12 +71,12 @@ fn arith_help() -> String {
 
 /// Parses a depth flag: a whole number.
 pub fn parse_depth(flag: &str, s: &str) -> Result<u32, String> {
-    let max = crate::mesh::grid::MAX_DEPTH;
+    let max = tracer_mesh::grid::MAX_DEPTH;
     match s.trim().parse::<u32>() {
-        Ok(n) if (crate::mesh::MIN_DEPTH..=max).contains(&n) => Ok(n),
+        Ok(n) if (tracer_mesh::MIN_DEPTH..=max).contains(&n) => Ok(n),
         _ => Err(format!(
             "{flag} '{s}': expected a whole number from {} to {max}",
-            crate::mesh::MIN_DEPTH
+            tracer_mesh::MIN_DEPTH
         )),
     }
 }
@@ -95,7 +96,7 @@ pub struct Plan {
     /// The model's name.
     pub name: String,
     /// The model.
-    pub model: crate::models::Model,
+    pub model: model_sources::Model,
     /// The arithmetic.
     pub kind: ArithKind,
     /// The mesher's options.
@@ -125,12 +126,12 @@ pub fn plan(a: &MeshArgs) -> Result<Plan, String> {
             }
             m
         }
-        None => (depth + DEFAULT_EXTRA_DEPTH).min(crate::mesh::grid::MAX_DEPTH),
+        None => (depth + DEFAULT_EXTRA_DEPTH).min(tracer_mesh::grid::MAX_DEPTH),
     };
     if let Some(t) = &a.threads {
-        super::parse_threads(t)?;
+        crate::args::parse_threads(t)?;
     }
-    let model = super::model_source(&a.src, a.domain.as_deref().map(|d| ("--domain", d)))?;
+    let model = crate::args::model_source(&a.src, a.domain.as_deref().map(|d| ("--domain", d)))?;
     let out = a
         .out
         .clone()
@@ -161,11 +162,11 @@ pub fn plan(a: &MeshArgs) -> Result<Plan, String> {
 /// Runs `tracer mesh`.
 pub fn run_mesh(a: &MeshArgs) -> Result<(), String> {
     let mut p = plan(a)?;
-    super::set_threads(a.threads.as_deref())?;
+    crate::args::set_threads(a.threads.as_deref())?;
     if !a.quiet {
-        p.opts.progress = Some(Arc::new(super::Bar::with_unit("parts")));
+        p.opts.progress = Some(Arc::new(crate::bar::Bar::with_unit("parts")));
     }
-    p.opts.cancel = Some(crate::interrupt::cancel_flag());
+    p.opts.cancel = Some(tracer_kit::interrupt::cancel_flag());
     let res = match mesh_kind(p.kind, &p.model.shape, &p.opts) {
         Err(MeshError::Cancelled) => {
             eprintln!("interrupted: no mesh written");
@@ -173,7 +174,7 @@ pub fn run_mesh(a: &MeshArgs) -> Result<(), String> {
         }
         r => r?,
     };
-    if crate::interrupt::requested() {
+    if tracer_kit::interrupt::requested() {
         eprintln!("interrupted: no mesh written");
         return Ok(());
     }
@@ -186,12 +187,12 @@ fn report(p: &Plan, res: &MeshResult, out: &Path) {
     let s = &res.stats;
     warn(s);
     if p.json {
-        crate::out!("{}", stats_json(&p.name, p.kind.name(), s));
+        tracer_kit::out!("{}", stats_json(&mesh_fields(&p.name, p.kind.name(), s)));
         return;
     }
-    crate::out!("{} depth={} arith={}", p.name, s.depth, p.kind);
-    crate::out!("{s}");
-    crate::out!("wrote {}", out.display());
+    tracer_kit::out!("{} depth={} arith={}", p.name, s.depth, p.kind);
+    tracer_kit::out!("{s}");
+    tracer_kit::out!("wrote {}", out.display());
 }
 
 /// Warnings on stderr where the mesh may miss thin parts of the surface.
@@ -212,8 +213,8 @@ fn warn(s: &MeshStats) {
     }
 }
 
-/// The stats of a meshing as one JSON object on one line.
-pub fn stats_json(model: &str, arith: &str, s: &MeshStats) -> String {
+/// The fields of a meshing's `--stats json` object.
+pub fn mesh_fields(model: &str, arith: &str, s: &MeshStats) -> Vec<(&'static str, String)> {
     let t = &s.topology;
     let opt = |v: Option<u64>| v.map_or("null".to_string(), |v| v.to_string());
     let counters = [
@@ -243,25 +244,23 @@ pub fn stats_json(model: &str, arith: &str, s: &MeshStats) -> String {
         ("misoriented_edges", t.misoriented_edges),
         ("degenerate_triangles", t.degenerate),
     ];
-    let mut out = format!(
-        "{{\"model\": {}, \"arith\": {}, \"wall_s\": {:?}",
-        super::json_string(model),
-        super::json_string(arith),
-        s.wall.as_secs_f64()
-    );
-    for (k, v) in counters {
-        out.push_str(&format!(", \"{k}\": {v}"));
-    }
-    out.push_str(&format!(
-        ", \"euler\": {}, \"watertight\": {}, \"manifold\": {}, \"certified_cells\": {}, \
-         \"certified_share\": {}, \"self_intersections\": {}}}",
-        t.euler,
-        t.watertight(),
-        t.manifold(),
-        opt(s.certified_cells),
-        s.certified_share()
-            .map_or("null".into(), |v| format!("{v:?}")),
-        opt(s.self_intersections)
-    ));
-    out
+    let mut fields = vec![
+        ("model", json_string(model)),
+        ("arith", json_string(arith)),
+        ("wall_s", format!("{:?}", s.wall.as_secs_f64())),
+    ];
+    fields.extend(counters.map(|(k, v)| (k, v.to_string())));
+    fields.extend([
+        ("euler", t.euler.to_string()),
+        ("watertight", t.watertight().to_string()),
+        ("manifold", t.manifold().to_string()),
+        ("certified_cells", opt(s.certified_cells)),
+        (
+            "certified_share",
+            s.certified_share()
+                .map_or("null".into(), |v| format!("{v:?}")),
+        ),
+        ("self_intersections", opt(s.self_intersections)),
+    ]);
+    fields
 }

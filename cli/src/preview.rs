@@ -1,14 +1,25 @@
 //! `tracer preview`: its arguments, the engine options they give, and the headless run
 //! (every level's snapshot, Ctrl-C keeping the image refined so far); the window is in
-//! [`super::window`], and [`super::run_preview`] picks one of the two.
+//! [`crate::preview_window`], and [`run_preview`] picks one of the two.
 
-use crate::arith::ArithKind;
-use crate::lipschitz_bound::auto_lipschitz;
-use crate::models::Model;
-use crate::progressive::SharedImage;
-use crate::progressive::{write_png, Bound, ChildStart, Engine, Options, Rect, Step};
+use model_ir::arith::ArithKind;
+use model_ir::gradient_bound::auto_lipschitz;
+use model_sources::Model;
+use tracer::progressive::SharedImage;
+use tracer::progressive::{write_png, Bound, ChildStart, Engine, Options, Rect, Step};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+
+/// Runs `tracer preview`: headless ([`run_headless`]) or in a window
+/// ([`crate::preview_window::run_window`]).
+pub fn run_preview(args: &PreviewArgs) -> Result<(), String> {
+    let (engine, model, roi) = prepare(args)?;
+    if args.headless {
+        run_headless(engine, args, roi)
+    } else {
+        crate::preview_window::run_window(engine, model, args, roi)
+    }
+}
 
 /// Sub-boxes per axis of the automatic Lipschitz bound of a model that has none.
 pub const AUTO_LIPSCHITZ_SPLITS: usize = 16;
@@ -22,7 +33,7 @@ fn arith_help() -> String {
 pub struct PreviewArgs {
     /// The model: see `tracer render --help`.
     #[command(flatten)]
-    pub src: super::ModelArgs,
+    pub src: crate::args::ModelArgs,
     /// Domain box XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX (default: the model's; [-2, 2]^3 for a
     /// formula).
     #[arg(long, allow_hyphen_values = true)]
@@ -33,7 +44,7 @@ pub struct PreviewArgs {
     /// The camera: as for `tracer render` (with --ortho, cones become cylinders of
     /// parallel rays).
     #[command(flatten)]
-    pub view: super::ViewArgs,
+    pub view: crate::args::ViewArgs,
     /// Image width in pixels (or give --size).
     #[arg(long, default_value_t = 800, conflicts_with = "size")]
     pub width: u32,
@@ -51,7 +62,7 @@ pub struct PreviewArgs {
     #[arg(long, default_value_t = 1e-4)]
     pub eps: f64,
     /// Overshooting factor of the terminal ray caster.
-    #[arg(long, default_value_t = crate::search::lipschitz::DEFAULT_OVERSHOOT)]
+    #[arg(long, default_value_t = tracer::search::lipschitz::DEFAULT_OVERSHOOT)]
     pub overshoot: f64,
     /// Anti-aliasing: subdivide samples to 1/N of a pixel and filter them into pixels
     /// with --filter (Appendix A, eq. A.1).
@@ -70,7 +81,7 @@ pub struct PreviewArgs {
     /// 8^3 sub-boxes are mostly below half the global one, else lipschitz), or `range`
     /// (each cone segment tested with the --arith range arithmetic over its frustum,
     /// terminal rays by Algorithm 1: no Lipschitz bound needed).
-    #[arg(long, default_value = crate::progressive::DEFAULT_BOUND.name(), allow_hyphen_values = true)]
+    #[arg(long, default_value = tracer::progressive::DEFAULT_BOUND.name(), allow_hyphen_values = true)]
     pub bound: String,
     /// Arithmetic of `--bound range`.
     #[arg(long, default_value = "revaa", help = arith_help())]
@@ -105,7 +116,7 @@ impl PreviewArgs {
     /// The image size: `--size`, or `--width` and `--height` (800 each by default).
     pub fn image_size(&self) -> Result<(u32, u32), String> {
         match &self.size {
-            Some(s) => super::parse_size("--size", s),
+            Some(s) => crate::args::parse_size("--size", s),
             // Checked by `Engine::new`.
             None => Ok((self.width, self.height)),
         }
@@ -146,7 +157,7 @@ fn check_paths(args: &PreviewArgs) -> Result<(), String> {
         })?;
     }
     if let Some(out) = &args.out {
-        crate::render::output::check_outputs(out, None)?;
+        tracer_kit::output::check_outputs(out, None)?;
     }
     Ok(())
 }
@@ -230,7 +241,7 @@ pub fn save_image(img: &SharedImage, out: &Path, flag: &str) -> Result<(), Strin
 
 /// The `--roi` flag as a rectangle of the `w x h` image.
 pub fn parse_roi(s: &str, w: u32, h: u32) -> Result<Rect, String> {
-    let v = super::parse_list("--roi", s, 4)?;
+    let v = crate::args::parse_list("--roi", s, 4)?;
     if v.iter().any(|x| x.fract() != 0.0 || *x < 0.0) {
         return Err(format!(
             "--roi '{s}': the corners must be whole pixel numbers"
@@ -247,9 +258,9 @@ pub fn parse_roi(s: &str, w: u32, h: u32) -> Result<Rect, String> {
 /// every flag and path checked.
 pub fn prepare(args: &PreviewArgs) -> Result<(Engine<Model>, Model, Option<Rect>), String> {
     let (width, height) = args.image_size()?;
-    super::set_threads(args.threads.as_deref())?;
+    crate::args::set_threads(args.threads.as_deref())?;
     let mut model =
-        super::model_source(&args.src, args.domain.as_deref().map(|d| ("--domain", d)))?;
+        crate::args::model_source(&args.src, args.domain.as_deref().map(|d| ("--domain", d)))?;
     model.view = args.view.apply(model.view)?;
     let roi = args
         .roi
@@ -263,14 +274,14 @@ pub fn prepare(args: &PreviewArgs) -> Result<(Engine<Model>, Model, Option<Rect>
 }
 
 /// Refines to completion without a window, writing a snapshot at every level transition.
-pub fn run_headless<S: crate::shape::Shape>(
+pub fn run_headless<S: model_ir::shape::Shape>(
     mut engine: Engine<S>,
     args: &PreviewArgs,
     mut roi: Option<Rect>,
 ) -> Result<(), String> {
     let start = Instant::now();
     let plan = engine.plan().clone();
-    crate::say!(
+    tracer_kit::say!(
         "plan: {}x{} top-level samples of {} px{}, splits {:?}, bound {}, lambda {}",
         plan.u,
         plan.v,
@@ -291,7 +302,7 @@ pub fn run_headless<S: crate::shape::Shape>(
     let io = std::cell::Cell::new(std::time::Duration::ZERO);
     let snap = |engine: &Engine<S>, level: usize| -> Result<(), String> {
         let s = engine.stats();
-        crate::say!(
+        tracer_kit::say!(
             "level {level} complete: {} iterations, {} evaluations, {:.3} s",
             s.iterations,
             s.evals,
@@ -308,11 +319,11 @@ pub fn run_headless<S: crate::shape::Shape>(
     // A snapshot is taken when every sample of a level is processed and before any of
     // the next, as the paper's Figs. 5-7.
     let mut level = 0;
-    // Ctrl-C (see [`crate::interrupt`], installed by the CLI) stops refinement; the image
+    // Ctrl-C (see [`tracer_kit::interrupt`], installed by the CLI) stops refinement; the image
     // refined so far is still written to `--out` below.
     let mut interrupted = false;
     while !engine.is_done() {
-        if crate::interrupt::requested() {
+        if tracer_kit::interrupt::requested() {
             interrupted = true;
             break;
         }
@@ -325,7 +336,7 @@ pub fn run_headless<S: crate::shape::Shape>(
                 if let Some(r) = roi.take() {
                     engine.set_roi(r)?;
                     let s = engine.stats();
-                    crate::say!(
+                    tracer_kit::say!(
                         "roi set at level {l}: {} iterations, {:.3} s",
                         s.iterations,
                         (start.elapsed() - io.get()).as_secs_f64()
@@ -341,7 +352,7 @@ pub fn run_headless<S: crate::shape::Shape>(
         } = engine.step()
         {
             let s = engine.stats();
-            crate::say!(
+            tracer_kit::say!(
                 "roi done: {} iterations, {:.3} s",
                 s.iterations,
                 (start.elapsed() - io.get()).as_secs_f64()
@@ -364,7 +375,7 @@ pub fn run_headless<S: crate::shape::Shape>(
         }
         return Ok(());
     }
-    crate::say!(
+    tracer_kit::say!(
         "done: {} iterations, {} evaluations (+{} for normals, {} range), {:.3} s",
         s.iterations,
         s.evals,

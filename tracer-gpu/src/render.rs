@@ -1,21 +1,20 @@
-//! The GPU renderer (feature `gpu`): a model of the registry as a tape of the model IR
-//! ([`Model::tape`], from which [`tracer_gpu`] generates its shaders), its rays and culling cells prepared in `f64`
-//! exactly as the CPU renderer's ([`crate::camera::Camera::ray`],
-//! [`crate::search::ray::clip`]), searched on the device by [`tracer_gpu`] and shaded by
-//! [`crate::render::shade`], giving the same [`RenderResult`] as [`crate::render::render`].
+//! The GPU renderer: a model of the registry as a tape of the model IR ([`Model::tape`],
+//! from which [`crate::codegen`] generates its shaders), its rays and culling cells
+//! prepared in `f64` exactly as the CPU renderer's ([`Camera::ray`],
+//! [`tracer::search::ray::clip`]), searched on the device by the [`crate::engine`] and
+//! shaded by [`tracer::render::shade`], giving the same [`RenderResult`] as
+//! [`tracer::render::render`].
 
-use crate::arith::ArithKind;
-use crate::camera::Camera;
-use crate::models::Model;
-use crate::render::shade::{self, Light};
-use crate::render::{RenderOptions, RenderResult, RenderStats};
-use crate::search::ray::clip;
+use crate::{Bundle, Cells, Frame, Gpu, GpuArith, Status, Tracer};
 use glam::DVec3;
+use model_ir::arith::ArithKind;
+use model_ir::camera::Camera;
 use model_ir::Tape;
+use model_sources::Model;
 use std::time::Instant;
-use tracer_gpu::{Bundle, Cells, Frame, Gpu, GpuArith, Status, Tracer};
-
-pub use tracer_gpu;
+use tracer::render::shade::{self, Light};
+use tracer::render::{RenderOptions, RenderResult, RenderStats};
+use tracer::search::ray::clip;
 
 /// Side of the culling pass's screen cells, in pixels.
 pub const CELL: u32 = 8;
@@ -33,7 +32,7 @@ pub fn gpu_arith(kind: ArithKind) -> Result<GpuArith, String> {
 /// The frame of `opts` for the GPU: each pixel's `f64` ray clipped to the domain, the
 /// precision, and with culling one bundle per `CELL x CELL` cell.
 pub fn frame(opts: &RenderOptions) -> Result<(Frame, Camera), String> {
-    let cam = crate::render::checked_camera(opts)?;
+    let cam = tracer::render::checked_camera(opts)?;
     let dom = opts.domain;
     let precision = opts.precision(&cam);
     let scale = (dom.max - dom.min).length();
@@ -135,7 +134,7 @@ fn centre_radius(corners: [DVec3; 4]) -> (DVec3, DVec3) {
     (mid, rad + DVec3::splat(scale * 1e-12 + 1e-300))
 }
 
-/// Renders `model` on `gpu` in `kind` with `opts` (as [`crate::render::render`]; the
+/// Renders `model` on `gpu` in `kind` with `opts` (as [`tracer::render::render`]; the
 /// shadows, progress and deadline options are not used). `stats.unconfirmed` counts the
 /// hits without a proved sign change.
 pub fn render(

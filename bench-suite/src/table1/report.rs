@@ -6,7 +6,7 @@ use super::{median, Cell, Report, Row};
 use crate::chart::{self, Bar, Group};
 use std::fmt::Write as _;
 use std::path::Path;
-use tracer::arith::ArithKind;
+use model_ir::arith::ArithKind;
 
 pub(super) fn write(path: &Path, bytes: &[u8]) -> Result<(), String> {
     std::fs::write(path, bytes).map_err(|e| format!("cannot write '{}': {e}", path.display()))

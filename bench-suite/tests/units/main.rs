@@ -4,8 +4,9 @@
 mod chart;
 mod counter;
 mod formulas;
+mod gm_rows;
 mod paper;
-mod progressive;
+mod gm_table1;
 mod scaling;
 mod scenes;
 mod table1;

@@ -3,8 +3,8 @@
 use bench_suite::table1::*;
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
-use tracer::arith::ArithKind;
-use tracer::models::PaperModel;
+use model_ir::arith::ArithKind;
+use model_sources::PaperModel;
 
 #[test]
 fn op_counts_match_the_paper_where_the_formula_is_the_papers() {

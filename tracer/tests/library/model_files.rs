@@ -1,4 +1,4 @@
-//! Model files through the one registry (`tracer::models::load`, `from_text`): a formula
+//! Model files through the one registry (`model_sources::load`, `from_text`): a formula
 //! file and a fidget `.vm` tape describing the same solid as hand-written Rust give the
 //! same values at random points and the same hit masks and depths (also against the
 //! analytic answer); headers set the domain and view; errors name file, line and
@@ -7,11 +7,11 @@
 use arith_core::{Range, Real};
 use glam::DVec3;
 use proptest::prelude::*;
-use tracer::arith::ArithKind;
-use tracer::camera::Camera;
-use tracer::models::{self, format, from_text, Model};
+use model_ir::arith::ArithKind;
+use model_ir::camera::Camera;
+use model_sources::{self, format, from_text, Model};
 use tracer::render::{render_kind, RenderOptions};
-use tracer::shape::{Aabb, Shape, View};
+use model_ir::shape::{Aabb, Shape, View};
 
 /// The unit ball minus the box `[-0.5, 0.5]^2 x [0, 2]` (a square notch from the top),
 /// with `min` as intersection: `min(1 - r^2, -min(0.25 - x^2, 0.25 - y^2, 1 - (z-1)^2))`.
@@ -110,7 +110,7 @@ fn analytic(o: DVec3, d: DVec3) -> (f64, f64) {
 fn the_three_writings_have_the_same_values() {
     let f = load_text(FORMULA, "expr");
     let v = load_text(VM, "vm");
-    let mut rng = tracer::models::noise::SplitMix64(7);
+    let mut rng = model_sources::noise::SplitMix64(7);
     for _ in 0..20_000 {
         let p = [(); 3].map(|_| rng.range(-1.3, 1.3));
         let want = Notched.eval(p[0], p[1], p[2]);
@@ -148,9 +148,9 @@ fn headers_set_domain_and_view() {
     // Without a header: the format's domain, framed.
     let m = load_text("1 - x^2 - y^2 - z^2", "expr");
     assert_eq!(m.domain, Aabb::cube(2.0));
-    assert_eq!(m.view, tracer::camera::frame_box(&Aabb::cube(2.0)).unwrap());
+    assert_eq!(m.view, model_ir::camera::frame_box(&Aabb::cube(2.0)).unwrap());
     let m = load_text("# domain: 0,0,0,1,2,3\n# view: ortho=2.5\nx", "expr");
-    let framed = tracer::camera::frame_box(&m.domain).unwrap();
+    let framed = model_ir::camera::frame_box(&m.domain).unwrap();
     assert_eq!(
         m.view,
         View {
@@ -263,7 +263,7 @@ fn errors_name_the_file_line_and_column() {
 /// support clipping), within a few ulps.
 #[test]
 fn builtin_formulas_give_the_builtins_values() {
-    let mut rng = tracer::models::noise::SplitMix64(11);
+    let mut rng = model_sources::noise::SplitMix64(11);
     let mut n = 0;
     for m in models::all() {
         let Some(text) = m.shape.formula() else {

@@ -8,9 +8,9 @@ use std::time::Duration;
 mod common;
 use common::start_xvfb;
 use std::sync::{Mutex, MutexGuard};
-use tracer::cli::preview::PreviewArgs;
-use tracer::cli::run_preview;
-use tracer::cli::ModelArgs;
+use tracer_cli::preview::PreviewArgs;
+use tracer_cli::preview::run_preview;
+use tracer_cli::args::ModelArgs;
 
 /// One test at a time: two Xvfb servers started at once can race for one display.
 static ONE_AT_A_TIME: Mutex<()> = Mutex::new(());

@@ -7,10 +7,10 @@
 use arith_core::Real;
 use glam::DVec3;
 use proptest::prelude::*;
-use tracer::arith::ArithKind;
-use tracer::mesh::grid::Grid;
-use tracer::mesh::{mesh_kind, Mesh, MeshOptions, MeshResult};
-use tracer::shape::{Aabb, Shape};
+use model_ir::arith::ArithKind;
+use tracer_mesh::grid::Grid;
+use tracer_mesh::{mesh_kind, Mesh, MeshOptions, MeshResult};
+use model_ir::shape::{Aabb, Shape};
 
 fn run<S: Shape>(shape: &S, domain: Aabb, depth: u32) -> MeshResult {
     let opts = MeshOptions::new(domain, depth);
@@ -262,7 +262,7 @@ fn cancelling_stops_with_an_error() {
         r: 0.5,
     };
     let r = mesh_kind(ArithKind::Ia, &ball, &opts);
-    assert_eq!(r.err(), Some(tracer::mesh::MeshError::Cancelled));
+    assert_eq!(r.err(), Some(tracer_mesh::MeshError::Cancelled));
 }
 
 proptest! {
@@ -289,32 +289,5 @@ proptest! {
             let r = mesh_kind(ArithKind::Ia, &ball, &opts);
             prop_assert!(r.is_ok(), "{:?}", r.err());
         }
-    }
-
-    /// The CLI's plan (every refusal before any work) never panics on any flag value.
-    #[test]
-    fn mesh_flags_never_panic(
-        depth in "\\PC{0,6}",
-        max_depth in prop::option::of("[0-9-]{0,4}"),
-        domain in prop::option::of("[-0-9.,e]{0,30}"),
-        stats in "[a-z]{0,5}",
-        arith in "[a-zA-Z*]{0,6}",
-        out in "[a-z./]{0,12}",
-    ) {
-        let args = tracer::cli::mesh::MeshArgs {
-            src: tracer::cli::ModelArgs { expr: Some("1 - x^2 - y^2 - z^2".into()), ..Default::default() },
-            out: Some(std::env::temp_dir().join("tracer-mesh-prop").join(out)),
-            depth,
-            max_depth,
-            arith,
-            domain,
-            threads: None,
-            stats,
-            no_check: false,
-            no_merge: false,
-            no_branch_planes: false,
-            quiet: true,
-        };
-        let _ = tracer::cli::mesh::plan(&args);
     }
 }

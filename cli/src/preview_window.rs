@@ -1,22 +1,22 @@
 //! The live preview (Section 3.5): a refinement thread and a display thread sharing the
-//! image buffer ([`crate::progressive::SharedImage`], relaxed atomics, no locks).
+//! image buffer ([`tracer::progressive::SharedImage`], relaxed atomics, no locks).
 //!
 //! The display thread (this one: X11 windows belong to the thread that made them) shows
 //! the buffer at a steady frame rate and edits the region of interest: drag with the
 //! left button to set it, right-click to cancel it. Dragging with the right button
-//! orbits the view about the point looked at ([`crate::camera::orbit`]), the mouse wheel
-//! zooms ([`crate::camera::zoom`]), and a model file that changes on disk is read again
+//! orbits the view about the point looked at ([`model_ir::camera::orbit`]), the mouse wheel
+//! zooms ([`model_ir::camera::zoom`]), and a model file that changes on disk is read again
 //! (a file that does not read keeps the last model, with the error on stderr); each of
 //! these starts the refinement over with a new engine. Esc, closing the window or Ctrl-C
-//! (see [`crate::interrupt`]) stops the refinement. The image is written to `--out` when
+//! (see [`tracer_kit::interrupt`]) stops the refinement. The image is written to `--out` when
 //! refinement completes and when it is stopped early; `--out` is also checkpointed every
 //! few seconds, so even a force-quit (a second Ctrl-C) loses at most the last few
 //! seconds of refinement.
 
-use super::preview::{options_for, save_image, PreviewArgs};
-use crate::models::Model;
-use crate::progressive::{write_png, Engine, Options, Rect, SharedImage, Stats, Step};
-use crate::shape::{Shape, View};
+use crate::preview::{options_for, save_image, PreviewArgs};
+use model_sources::Model;
+use tracer::progressive::{write_png, Engine, Options, Rect, SharedImage, Stats, Step};
+use model_ir::shape::{Shape, View};
 use minifb::{Key, MouseButton, MouseMode, Window, WindowOptions};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -200,7 +200,7 @@ pub fn run_window(
             .map(|(x, y)| ((x as u32).min(w - 1), (y as u32).min(h - 1)))
     };
     let result = loop {
-        if !window.is_open() || window.is_key_down(Key::Escape) || crate::interrupt::requested() {
+        if !window.is_open() || window.is_key_down(Key::Escape) || tracer_kit::interrupt::requested() {
             break Ok(());
         }
         if args
@@ -234,7 +234,7 @@ pub fn run_window(
                 let (dx, dy) = (p.0 as f64 - p0.0 as f64, p.1 as f64 - p0.1 as f64);
                 if moved || dx.abs() + dy.abs() > 2.0 {
                     orbit_from = Some((p0, v0, true));
-                    let v = crate::camera::orbit(&v0, -dx * ORBIT_PER_PIXEL, dy * ORBIT_PER_PIXEL);
+                    let v = model_ir::camera::orbit(&v0, -dx * ORBIT_PER_PIXEL, dy * ORBIT_PER_PIXEL);
                     if v != view {
                         restart = Some((None, v));
                     }
@@ -251,7 +251,7 @@ pub fn run_window(
         }
         if let Some((_, steps)) = window.get_scroll_wheel() {
             if steps != 0.0 {
-                let v = crate::camera::zoom(&view, ZOOM_PER_STEP.powf(steps as f64));
+                let v = model_ir::camera::zoom(&view, ZOOM_PER_STEP.powf(steps as f64));
                 restart = Some((None, v));
             }
         }
@@ -262,11 +262,11 @@ pub fn run_window(
                 if now != stamp {
                     stamp = now;
                     let domain = args.domain.as_deref().map(|d| ("--domain", d));
-                    match super::model_source(&args.src, domain)
+                    match crate::args::model_source(&args.src, domain)
                         .and_then(|m| options_for(args, &m).map(|o| (m, o)))
                     {
                         Ok(mo) => {
-                            crate::say!("reloaded {}", path.display());
+                            tracer_kit::say!("reloaded {}", path.display());
                             restart = Some((Some(mo), view));
                         }
                         Err(e) => eprintln!("reload of {} failed: {e}", path.display()),
@@ -337,11 +337,11 @@ pub fn run_window(
             save_image(&image, out, "--out")?;
         }
     }
-    crate::say!(
+    tracer_kit::say!(
         "{}: {} iterations, {} evaluations, {:.3} s, {} frames",
         if complete {
             "complete"
-        } else if crate::interrupt::requested() {
+        } else if tracer_kit::interrupt::requested() {
             "interrupted"
         } else {
             "stopped"

@@ -1,4 +1,4 @@
-//! `tracer view`: a real-time window on the GPU renderer ([`crate::gpu`]). The model is
+//! `tracer view`: a real-time window on the GPU renderer ([`tracer_gpu::render`]). The model is
 //! compiled to a shader once; every frame whose view changed is searched again on the
 //! device, as `tracer render --device gpu` would, and shown. Drag with either mouse
 //! button (or press the arrow keys) to orbit about the point looked at, turn the wheel
@@ -6,7 +6,7 @@
 //! window or Ctrl-C stops, writing the last frame to `--out` if given. The title shows
 //! each frame's time and its hit and unconfirmed pixel counts.
 
-use super::{ModelArgs, ViewArgs};
+use crate::args::{ModelArgs, ViewArgs};
 use std::path::PathBuf;
 
 /// Arguments of `tracer view`.
@@ -64,15 +64,15 @@ pub fn run_view(args: &ViewWindowArgs) -> Result<(), String> {
 #[cfg(feature = "gpu")]
 mod on_gpu {
     use super::ViewWindowArgs;
-    use crate::arith::ArithKind;
-    use crate::camera::{orbit, zoom};
-    use crate::cli::window::{ORBIT_PER_PIXEL, ZOOM_PER_STEP};
-    use crate::cli::{model_source, parse_size};
-    use crate::gpu::tracer_gpu::{Gpu, Tracer};
-    use crate::progressive::pack;
-    use crate::render::output::{check_outputs, write_png};
-    use crate::render::{RenderOptions, RenderResult};
-    use crate::shape::View;
+    use model_ir::arith::ArithKind;
+    use model_ir::camera::{orbit, zoom};
+    use crate::preview_window::{ORBIT_PER_PIXEL, ZOOM_PER_STEP};
+    use crate::args::{model_source, parse_size};
+    use tracer_gpu::render::tracer_gpu::{Gpu, Tracer};
+    use tracer::progressive::pack;
+    use tracer_kit::output::{check_outputs, write_png};
+    use tracer::render::{RenderOptions, RenderResult};
+    use model_ir::shape::View;
     use minifb::{Key, KeyRepeat, MouseButton, MouseMode, Window, WindowOptions};
     use std::time::Instant;
 
@@ -93,12 +93,12 @@ mod on_gpu {
             view,
             ..base.clone()
         };
-        crate::gpu::render_with(tracer, &opts)
+        tracer_gpu::render::render_with(tracer, &opts)
     }
 
     pub fn run(args: &ViewWindowArgs) -> Result<(), String> {
         let kind: ArithKind = args.arith.parse().map_err(|e| format!("--arith: {e}"))?;
-        let arith = crate::gpu::gpu_arith(kind).map_err(|e| format!("--arith: {e}"))?;
+        let arith = tracer_gpu::render::gpu_arith(kind).map_err(|e| format!("--arith: {e}"))?;
         let (w, h) = parse_size("--size", &args.size)?;
         if args.fps == 0 || args.fps > 240 {
             return Err(format!("--fps must be in 1..=240, got {}", args.fps));
@@ -115,7 +115,7 @@ mod on_gpu {
         }
         let model = model_source(&args.src, args.domain.as_deref().map(|d| ("--domain", d)))?;
         let start_view = args.view.apply(model.view)?;
-        crate::camera::Camera::try_new(start_view, w, h).map_err(|e| format!("camera: {e}"))?;
+        model_ir::camera::Camera::try_new(start_view, w, h).map_err(|e| format!("camera: {e}"))?;
         let program = model.tape()?;
         let gpu = Gpu::new()?;
         let tracer = Tracer::new(&gpu, &program, arith)?;
@@ -145,7 +145,7 @@ mod on_gpu {
         // A drag: where it started and the view then.
         let mut drag: Option<((f32, f32), View)> = None;
         let result = loop {
-            if !window.is_open() || window.is_key_down(Key::Escape) || crate::interrupt::requested()
+            if !window.is_open() || window.is_key_down(Key::Escape) || tracer_kit::interrupt::requested()
             {
                 break Ok(());
             }
@@ -212,9 +212,9 @@ mod on_gpu {
         };
         if let Some(out) = &args.out {
             write_png(out, w, h, &last.rgb).map_err(|e| format!("--out: {e}"))?;
-            crate::say!("wrote {}", out.display());
+            tracer_kit::say!("wrote {}", out.display());
         }
-        crate::say!(
+        tracer_kit::say!(
             "{} frames in {:.2} s",
             frames,
             started.elapsed().as_secs_f64()

@@ -5,8 +5,8 @@ mod common;
 #[path = "../../tracer/tests/common/mod.rs"]
 mod x11;
 
-use tracer::cli::gpu_window::{run_view, ViewWindowArgs};
-use tracer::cli::ModelArgs;
+use tracer_cli::view::{run_view, ViewWindowArgs};
+use tracer_cli::args::ModelArgs;
 use tracer::render::RenderOptions;
 
 #[test]
@@ -40,9 +40,9 @@ fn window_shows_the_gpu_render_and_writes_it_on_closing() {
     let _ = xvfb.wait();
     r.expect("view window");
     let shown = image::open(&out).expect("last frame written").to_rgb8();
-    let model = tracer::models::find("bretzel").unwrap();
+    let model = model_sources::find("bretzel").unwrap();
     let opts = RenderOptions::new(&model, 64, 48);
-    let want = tracer::gpu::render(gpu, tracer::arith::ArithKind::Revaa, &model, &opts).unwrap();
+    let want = tracer_gpu::render::render(gpu, model_ir::arith::ArithKind::Revaa, &model, &opts).unwrap();
     assert!(want.stats.hits > 100, "{} hits", want.stats.hits);
     assert_eq!(shown.dimensions(), (64, 48));
     assert_eq!(

@@ -1,20 +1,11 @@
-//! What the `tracer` binary is made of (feature `cli`): the parsing of flag values into
-//! the library's types with one-line errors naming the flag, the model a command's
-//! flags select, the terminal progress bar, and the previewer's command and window.
+//! The flags the commands share and the parsing of flag values into the library's
+//! types, with one-line errors naming the flag: the model a command's flags select
+//! ([`ModelArgs`], [`model_source`]), the view ([`ViewArgs`]), sizes, boxes, numbers
+//! and the worker threads.
 
-pub mod gpu_window;
-pub mod mesh;
-pub mod preview;
-pub mod window;
-
-use crate::models::Model;
-use crate::render::{Progress, RenderStats};
-use crate::shape::Aabb;
 use glam::DVec3;
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use std::io::IsTerminal;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
+use model_ir::shape::Aabb;
+use model_sources::Model;
 
 /// The flags that choose a model, shared by `render`, `range` and `preview`.
 #[derive(clap::Args, Debug, Clone, Default)]
@@ -50,21 +41,10 @@ impl ModelArgs {
     }
 }
 
-/// Runs `tracer preview`: headless ([`preview::run_headless`]) or in a window
-/// ([`window::run_window`]).
-pub fn run_preview(args: &preview::PreviewArgs) -> Result<(), String> {
-    let (engine, model, roi) = preview::prepare(args)?;
-    if args.headless {
-        preview::run_headless(engine, args, roi)
-    } else {
-        window::run_window(engine, model, args, roi)
-    }
-}
-
 /// The model that the flags of `src` and a domain flag (`(flag, value)`: `--domain`,
-/// `--box`) select, from the one registry ([`crate::models::load`]): a built-in name, a
+/// `--box`) select, from the one registry ([`model_sources::load`]): a built-in name, a
 /// model file or standard input, or a formula (domain `[-2, 2]^3` unless the flag gives
-/// one, framed by [`crate::camera::frame_box`]). A file's header may state its domain
+/// one, framed by [`model_ir::camera::frame_box`]). A file's header may state its domain
 /// and view; the flag overrides the domain, and the view then frames the new domain
 /// unless the header states one. Files are read (and a missing one refused) here,
 /// before any work.
@@ -76,9 +56,9 @@ pub fn model_source(src: &ModelArgs, domain: Option<(&str, &str)>) -> Result<Mod
             let builtin = src
                 .model
                 .as_deref()
-                .is_some_and(|m| src.format.is_none() && crate::models::is_builtin(m));
+                .is_some_and(|m| src.format.is_none() && model_sources::is_builtin(m));
             if !builtin {
-                crate::camera::frame_box(&b).map_err(|e| format!("{flag} '{s}': {e}"))?;
+                model_ir::camera::frame_box(&b).map_err(|e| format!("{flag} '{s}': {e}"))?;
             }
             Some(b)
         }
@@ -87,7 +67,7 @@ pub fn model_source(src: &ModelArgs, domain: Option<(&str, &str)>) -> Result<Mod
     let format = src
         .format
         .as_deref()
-        .map(|f| crate::models::format(f).map_err(|e| format!("--format: {e}")))
+        .map(|f| model_sources::format(f).map_err(|e| format!("--format: {e}")))
         .transpose()?;
     let given = [
         src.model.is_some(),
@@ -115,11 +95,11 @@ pub fn model_source(src: &ModelArgs, domain: Option<(&str, &str)>) -> Result<Mod
         if format.is_some_and(|f| f.name != "expr") {
             return Err("--expr-file reads formula files: leave out --format".into());
         }
-        let expr = crate::models::format("expr")?;
-        return crate::models::load("--expr-file", f, Some(expr), domain);
+        let expr = model_sources::format("expr")?;
+        return model_sources::load("--expr-file", f, Some(expr), domain);
     }
     let m = src.model.as_deref().unwrap_or_default();
-    crate::models::load("MODEL", m, format, domain)
+    model_sources::load("MODEL", m, format, domain)
 }
 
 /// The camera flags, shared by `render` and `preview`: each one given replaces that part
@@ -147,7 +127,7 @@ pub struct ViewArgs {
 
 impl ViewArgs {
     /// `view` with the given flags applied; an error names the flag and its value.
-    pub fn apply(&self, mut view: crate::shape::View) -> Result<crate::shape::View, String> {
+    pub fn apply(&self, mut view: model_ir::shape::View) -> Result<model_ir::shape::View, String> {
         if let Some(s) = &self.eye {
             view.eye = parse_vec3("--eye", s)?;
         }
@@ -204,19 +184,19 @@ pub fn parse_vec3(flag: &str, s: &str) -> Result<DVec3, String> {
 pub fn parse_box(flag: &str, s: &str) -> Result<Aabb, String> {
     let v = parse_list(flag, s, 6)?;
     let b = Aabb::new(DVec3::new(v[0], v[1], v[2]), DVec3::new(v[3], v[4], v[5]));
-    crate::shape::check_domain(&b).map_err(|e| format!("{flag} '{s}': {e}"))?;
+    model_ir::shape::check_domain(&b).map_err(|e| format!("{flag} '{s}': {e}"))?;
     Ok(b)
 }
 
-/// Parses `WxH` for `flag`, each side within [`crate::camera::check_size`].
+/// Parses `WxH` for `flag`, each side within [`model_ir::camera::check_size`].
 pub fn parse_size(flag: &str, s: &str) -> Result<(u32, u32), String> {
-    let max = crate::camera::MAX_SIDE;
+    let max = model_ir::camera::MAX_SIDE;
     let err =
         || format!("{flag} '{s}': expected WxH with positive integers up to {max}, e.g. 640x480");
     let (w, h) = s.split_once(['x', 'X']).ok_or_else(err)?;
     let w: u32 = w.trim().parse().map_err(|_| err())?;
     let h: u32 = h.trim().parse().map_err(|_| err())?;
-    crate::camera::check_size(w, h).map_err(|_| err())?;
+    model_ir::camera::check_size(w, h).map_err(|_| err())?;
     Ok((w, h))
 }
 
@@ -246,82 +226,6 @@ pub fn set_threads(threads: Option<&str>) -> Result<(), String> {
         .map_err(|e| format!("--threads {n}: {e}"))
 }
 
-/// `s` as a JSON string.
-pub fn json_string(s: &str) -> String {
-    let mut out = String::with_capacity(s.len() + 2);
-    out.push('"');
-    for c in s.chars() {
-        match c {
-            '"' => out.push_str("\\\""),
-            '\\' => out.push_str("\\\\"),
-            '\n' => out.push_str("\\n"),
-            '\r' => out.push_str("\\r"),
-            '\t' => out.push_str("\\t"),
-            c if (c as u32) < 0x20 => out.push_str(&format!("\\u{:04x}", c as u32)),
-            c => out.push(c),
-        }
-    }
-    out.push('"');
-    out
-}
-
-/// The stats of a render as one JSON object on one line: every counter of
-/// [`RenderStats`] under its field name, `wall_s` for the wall time, and the render's
-/// model, size and arithmetic.
-pub fn stats_json(model: &str, width: u32, height: u32, arith: &str, s: &RenderStats) -> String {
-    // Destructured so that a new counter cannot be left out.
-    let RenderStats {
-        wall,
-        rays,
-        shadow_rays,
-        range_evals,
-        range_evals_hit,
-        cell_evals,
-        shade_evals,
-        range_ops,
-        point_evals,
-        cells_culled,
-        pixels_culled,
-        pruned_empty,
-        hits,
-        unconfirmed,
-        cut,
-        tiles_done,
-        tiles_total,
-    } = *s;
-    let counters = [
-        ("rays", rays),
-        ("shadow_rays", shadow_rays),
-        ("range_evals", range_evals),
-        ("range_evals_hit", range_evals_hit),
-        ("cell_evals", cell_evals),
-        ("shade_evals", shade_evals),
-        ("range_ops", range_ops),
-        ("point_evals", point_evals),
-        ("cells_culled", cells_culled),
-        ("pixels_culled", pixels_culled),
-        ("pruned_empty", pruned_empty),
-        ("hits", hits),
-        ("unconfirmed", unconfirmed),
-        ("tiles_done", tiles_done),
-        ("tiles_total", tiles_total),
-    ];
-    let mut out = format!(
-        "{{\"model\": {}, \"width\": {width}, \"height\": {height}, \"arith\": {}, \"wall_s\": {:?}, \"cut\": {cut}",
-        json_string(model),
-        json_string(arith),
-        wall.as_secs_f64(),
-    );
-    for (k, v) in counters {
-        out.push_str(&format!(", \"{k}\": {v}"));
-    }
-    out.push_str(&format!(
-        ", \"mean_evals_per_hit\": {:?}}}",
-        s.mean_evals_per_hit()
-    ));
-    out
-}
-
 /// Parses a finite number above 0 for `flag`.
 pub fn parse_positive(flag: &str, s: &str) -> Result<f64, String> {
     match s.trim().parse::<f64>() {
@@ -330,54 +234,3 @@ pub fn parse_positive(flag: &str, s: &str) -> Result<f64, String> {
     }
 }
 
-/// A progress bar of tiles on stderr, drawn only when stderr is a terminal and only once
-/// a render has run for a second (short renders stay quiet), with the time left.
-#[derive(Debug)]
-pub struct Bar {
-    bar: ProgressBar,
-    start: Instant,
-    shown: AtomicBool,
-}
-
-impl Bar {
-    /// A bar that shows itself where stderr is a terminal.
-    pub fn new() -> Bar {
-        Bar::with_unit("tiles")
-    }
-
-    /// [`Bar::new`] counting `unit` (`tiles`, `parts`) instead of tiles.
-    pub fn with_unit(unit: &str) -> Bar {
-        let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::hidden());
-        let template = format!("{{bar:40}} {{pos}}/{{len}} {unit}, {{elapsed}} (left {{eta}})");
-        if let Ok(style) = ProgressStyle::with_template(&template) {
-            bar.set_style(style);
-        }
-        Bar {
-            bar,
-            start: Instant::now(),
-            shown: AtomicBool::new(!std::io::stderr().is_terminal()),
-        }
-    }
-}
-
-impl Default for Bar {
-    fn default() -> Self {
-        Bar::new()
-    }
-}
-
-impl Progress for Bar {
-    fn start(&self, tiles: u64) {
-        self.bar.set_length(tiles);
-    }
-    fn tile_done(&self) {
-        if !self.shown.load(Ordering::Relaxed) && self.start.elapsed() > Duration::from_secs(1) {
-            self.shown.store(true, Ordering::Relaxed);
-            self.bar.set_draw_target(ProgressDrawTarget::stderr());
-        }
-        self.bar.inc(1);
-    }
-    fn finish(&self) {
-        self.bar.finish_and_clear();
-    }
-}

@@ -228,7 +228,7 @@ fn range_json_encloses_the_function() {
     ]);
     assert!(out.status.success());
     let s = String::from_utf8_lossy(&out.stdout);
-    for a in tracer::arith::ArithKind::ALL.map(|k| k.name()) {
+    for a in model_ir::arith::ArithKind::ALL.map(|k| k.name()) {
         assert!(s.contains(&format!("\"arith\": \"{a}\"")), "{s}");
     }
     // Every bound pair must enclose the true range [-2, 1].
@@ -236,7 +236,7 @@ fn range_json_encloses_the_function() {
         .split(|c: char| !(c.is_ascii_digit() || c == '.' || c == '-' || c == 'e'))
         .filter_map(|t| t.parse().ok())
         .collect();
-    assert_eq!(nums.len(), 2 * tracer::arith::ArithKind::COUNT, "{s}");
+    assert_eq!(nums.len(), 2 * model_ir::arith::ArithKind::COUNT, "{s}");
     for p in nums.chunks(2) {
         assert!(p[0] <= -2.0 && p[1] >= 1.0, "{p:?} in {s}");
     }
@@ -247,7 +247,7 @@ fn list_names_every_paper_model() {
     let out = tracer(&["list"]);
     assert!(out.status.success());
     let s = String::from_utf8_lossy(&out.stdout);
-    for m in tracer::models::PaperModel::ALL {
+    for m in model_sources::PaperModel::ALL {
         assert!(s.contains(m.name()), "{} missing", m.name());
     }
     assert!(s.contains("domain") && s.contains("--eye"));
@@ -466,7 +466,7 @@ fn formulas_may_start_with_a_minus() {
     assert!(text.lines().all(|l| l.ends_with("[-1.0, -1.0]")), "{text}");
     assert_eq!(
         text.lines().count(),
-        tracer::arith::ArithKind::COUNT,
+        model_ir::arith::ArithKind::COUNT,
         "{text}"
     );
     let png = tmp("minus.png");
@@ -627,7 +627,7 @@ fn help_lists_the_formula_language() {
         assert_eq!(out.status.code(), Some(0), "{out:?}");
         let text = String::from_utf8_lossy(&out.stdout);
         assert!(
-            text.contains(tracer::models::formula::SYNTAX.trim_end()),
+            text.contains(model_sources::formula::SYNTAX.trim_end()),
             "{cmd} --help: {text}"
         );
     }

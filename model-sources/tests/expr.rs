@@ -6,7 +6,7 @@ use arith_core::rfunc::{intersect, subtract, union};
 use arith_core::{Range, Real};
 use proptest::prelude::*;
 use proptest::sample::select;
-use tracer::models::formula::{
+use model_sources::formula::{
     compile, parse, parse_program, BinOp, Binding, Expr, Func, Op, ParseError, Program, Tape,
     ToFormula, Var, MAX_TREE_DEPTH, SYNTAX,
 };
@@ -509,7 +509,7 @@ fn syntax_text_is_complete_and_in_the_readme() {
     for w in ["^", "#", "name = expr;", "x  y  z"] {
         assert!(SYNTAX.contains(w), "{w}");
     }
-    let readme = include_str!("../../../README.md");
+    let readme = include_str!("../../README.md");
     assert!(
         readme.contains(SYNTAX),
         "README.md lacks the formula language text"
@@ -796,11 +796,11 @@ macro_rules! per_arithmetic {
         )*
     };
 }
-tracer::arith_list!([per_arithmetic] {});
+model_ir::arith_list!([per_arithmetic] {});
 
 #[test]
 fn tape_is_a_shape() {
-    fn via_shape<S: tracer::shape::Shape>(s: &S) -> f64 {
+    fn via_shape<S: model_ir::shape::Shape>(s: &S) -> f64 {
         s.eval(0.5, 0.25, 0.0)
     }
     assert_eq!(via_shape(&tape("x + y")), 0.75);

@@ -5,8 +5,8 @@ use arith_core::dual::Dual;
 use arith_core::{Range, Real};
 use arith_ia::Interval;
 use glam::DVec3;
-use tracer::models::noise::{eval_field, Cellular, Field3, Perlin, SparseConvolution, SplitMix64};
-use tracer::shape::Shape;
+use model_sources::noise::{eval_field, Cellular, Field3, Perlin, SparseConvolution, SplitMix64};
+use model_ir::shape::Shape;
 
 fn fields() -> Vec<(&'static str, Box<dyn Field3>)> {
     vec![
@@ -94,7 +94,7 @@ fn noise_over_intervals_encloses_sampled_points() {
 fn model_lipschitz_bounds_hold_on_samples() {
     let mut rng = SplitMix64(44);
     let h = 1e-6;
-    for m in tracer::models::progressive::all() {
+    for m in model_sources::gamito_maddock::all() {
         let l = m.lipschitz.unwrap();
         let (lo, hi) = (m.domain.min, m.domain.max);
         let f = |p: DVec3| m.eval(p.x, p.y, p.z);
@@ -138,7 +138,7 @@ fn dual_interval_gradients_enclose_sampled_gradients() {
     // Mitchell's quartic, and the blobby model whose range evaluation skips the basis
     // functions that cannot matter in the box.
     for (name, r_max) in [("mitchell-gm", 0.2), ("blobby", 0.4), ("blobby", 0.05)] {
-        let m = tracer::models::progressive::all()
+        let m = model_sources::gamito_maddock::all()
             .into_iter()
             .find(|m| m.name == name)
             .unwrap();
@@ -182,7 +182,7 @@ fn dual_interval_gradients_enclose_sampled_gradients() {
 /// arithmetic over `24^3` sub-boxes of `[0, 1/2]^3` (enough by the reflection symmetry).
 #[test]
 fn perlin_gradient_bounds_are_verified_by_interval_subdivision() {
-    use tracer::models::noise::GRADS;
+    use model_sources::noise::GRADS;
     let iv = |lo: f64, hi: f64| Interval::input(0, lo, hi);
     let c = Interval::constant;
     // s and s' are increasing on [0, 1/2] (s' >= 0, s'' = 60 t (1 - t)(1 - 2t) >= 0), so
@@ -192,8 +192,8 @@ fn perlin_gradient_bounds_are_verified_by_interval_subdivision() {
         let (a, b) = t.bounds();
         Interval::new(f(a) - 1e-14, f(b) + 1e-14)
     };
-    let fade = |t: Interval| mono(tracer::models::noise::fade, t);
-    let dfade = |t: Interval| mono(tracer::models::noise::fade_deriv, t);
+    let fade = |t: Interval| mono(model_sources::noise::fade, t);
+    let dfade = |t: Interval| mono(model_sources::noise::fade_deriv, t);
     let mag = |v: Interval| {
         let (lo, hi) = v.bounds();
         lo.abs().max(hi.abs())
