@@ -1,7 +1,8 @@
 //! # tracer-cli: the `tracer` command
 //!
 //! One module per command, each with its arguments and its run: [`render`], [`range`],
-//! [`list`], [`preview`] (with its live window, [`preview_window`]), [`view`] (the GPU
+//! [`list`], [`preview`] (its arguments in [`preview_args`], its live window in
+//! [`preview_window`]), [`view`] (the GPU
 //! renderer's live window), [`mesh`] and [`manual`] (shell completions, the manual
 //! page). Below them: the flags the commands share ([`args`]), the progress bar
 //! ([`bar`]) and the `--stats json` objects ([`stats_json`]). The binary's `main` parses
@@ -20,6 +21,7 @@ pub mod list;
 pub mod manual;
 pub mod mesh;
 pub mod preview;
+pub mod preview_args;
 pub mod preview_window;
 pub mod range;
 pub mod render;

@@ -8,7 +8,7 @@
 
 use clap::{CommandFactory, Parser, Subcommand};
 use std::process::ExitCode;
-use tracer_cli::{view, list, manual, mesh, preview, range, render};
+use tracer_cli::{list, manual, mesh, preview, preview_args, range, render, view};
 use tracer_kit::interrupt;
 
 #[derive(Parser, Debug)]
@@ -41,7 +41,7 @@ enum Cmd {
     /// file is read again when it changes; Esc or closing the window stops refinement
     /// and writes --out.
     #[command(after_long_help = model_sources::formula::SYNTAX)]
-    Preview(preview::PreviewArgs),
+    Preview(preview_args::PreviewArgs),
     /// Real-time window on the GPU renderer (a build with the `gpu` feature).
     ///
     /// The model is searched on the GPU as by `render --device gpu` whenever the view

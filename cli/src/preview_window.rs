@@ -13,7 +13,7 @@
 //! few seconds, so even a force-quit (a second Ctrl-C) loses at most the last few
 //! seconds of refinement.
 
-use crate::preview::{options_for, save_image, PreviewArgs};
+use crate::preview_args::{options_for, save_image, PreviewArgs};
 use model_sources::Model;
 use tracer::progressive::{write_png, Engine, Options, Rect, SharedImage, Stats, Step};
 use model_ir::shape::{Shape, View};

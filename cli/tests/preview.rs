@@ -3,7 +3,8 @@
 
 use tracer::progressive::SharedImage;
 use tracer_cli::args::ModelArgs;
-use tracer_cli::preview::{run_preview, PreviewArgs};
+use tracer_cli::preview::run_preview;
+use tracer_cli::preview_args::PreviewArgs;
 
 /// An image that cannot be written at the end is kept in the temporary folder, and the
 /// error says where.
@@ -12,7 +13,7 @@ fn a_failed_write_keeps_the_image_and_says_where() {
     let blocker = std::env::temp_dir().join(format!("tracer-blocker-{}", std::process::id()));
     std::fs::write(&blocker, "a file, not a folder").unwrap();
     let img = SharedImage::new(4, 3, [10, 20, 30]);
-    let e = tracer_cli::preview::save_image(&img, &blocker.join("out.png"), "--out").unwrap_err();
+    let e = tracer_cli::preview_args::save_image(&img, &blocker.join("out.png"), "--out").unwrap_err();
     assert!(
         e.starts_with("--out '") && e.contains("the image is kept in "),
         "{e}"

@@ -8,7 +8,7 @@ use std::time::Duration;
 mod common;
 use common::start_xvfb;
 use std::sync::{Mutex, MutexGuard};
-use tracer_cli::preview::PreviewArgs;
+use tracer_cli::preview_args::PreviewArgs;
 use tracer_cli::preview::run_preview;
 use tracer_cli::args::ModelArgs;
 
