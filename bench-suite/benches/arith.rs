@@ -7,9 +7,9 @@
 
 use arith_core::{Arithmetic, Range, Real};
 use criterion::{criterion_group, criterion_main, Criterion};
+use model_ir::arith::ArithKind;
 use std::hint::black_box;
 use std::time::Duration;
-use model_ir::arith::ArithKind;
 
 type Op<R> = (&'static str, fn(&R, &R) -> R);
 

@@ -7,15 +7,15 @@
 
 use arith_core::{Arithmetic, Range};
 use criterion::{criterion_group, criterion_main, Criterion};
-use std::hint::black_box;
-use std::time::Duration;
 use model_ir::arith::ArithKind;
 use model_ir::camera::Camera;
+use model_ir::shape::Shape;
 use model_sources::Model;
 use model_sources::PaperModel;
+use std::hint::black_box;
+use std::time::Duration;
 use tracer::render::RenderOptions;
 use tracer::search::ray::{clip, first_root, RayParams, RayStats, Start};
-use model_ir::shape::Shape;
 
 fn cell_of(m: &Model) -> [(f64, f64); 3] {
     let (lo, hi) = (m.domain.min.to_array(), m.domain.max.to_array());

@@ -12,10 +12,10 @@
 use arith_core::pack::{Pack, LANES};
 use arith_core::{Arithmetic, Range};
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use std::hint::black_box;
-use std::time::Duration;
 use model_ir::arith::ArithKind;
 use model_sources::formula::Tape;
+use std::hint::black_box;
+use std::time::Duration;
 use tracer::search::ray::ray_inputs;
 
 /// Ray segments per batch.

@@ -4,11 +4,11 @@
 //! Times are measured in rounds, every method once per round in turn, so that a slow
 //! spell of the machine hits every method alike; a row keeps its median.
 
-use tracer::progressive::{raycast, Bound, Caster, Engine, Options, Step};
 use model_ir::arith::ArithKind;
 use model_sources::Model;
-use tracer::search::lipschitz::DEFAULT_OVERSHOOT;
 use std::time::Instant;
+use tracer::progressive::{raycast, Bound, Caster, Engine, Options, Step};
+use tracer::search::lipschitz::DEFAULT_OVERSHOOT;
 
 /// One row of the previewer benchmark (the paper's Table 1 and Fig. 9).
 #[derive(Clone, Debug, PartialEq)]

@@ -7,10 +7,10 @@
 //! and the ordering of the methods are comparable, not the seconds.
 
 use crate::chart::{self, Bar, Group};
+use crate::gm_rows::BenchRow;
+use model_sources::Model;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use model_sources::Model;
-use crate::gm_rows::BenchRow;
 
 /// The paper's resolution for Table 1 and Figs. 5-7 (Section 4: "800x800 pixels").
 pub const DEFAULT_SIZE: u32 = 800;
@@ -216,8 +216,7 @@ fn bench(m: &Model, o: &Options) -> Result<Vec<BenchRow>, String> {
         eprintln!("progressive: {} at {size}x{size} ...", m.name);
     }
     let keep = |name: &str| o.methods.is_empty() || o.methods.iter().any(|k| k == name);
-    let rows =
-        crate::gm_rows::bench_rounds(std::slice::from_ref(m), size, size, o.rounds, &keep)?;
+    let rows = crate::gm_rows::bench_rounds(std::slice::from_ref(m), size, size, o.rounds, &keep)?;
     if verbose {
         for r in &rows {
             eprintln!(

@@ -14,10 +14,10 @@
 
 use bench_suite::{fig10, formulas, gm_study, gm_table1, scaling, scenes, table1, tightness};
 use clap::{Parser, Subcommand};
+use model_sources::PaperModel;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Duration;
-use model_sources::PaperModel;
 
 #[derive(Parser)]
 #[command(
@@ -533,7 +533,9 @@ fn table2_cmd(_: Option<String>, _: usize, _: bool, _: &PathBuf) -> Result<(), S
 
 fn main() -> ExitCode {
     match run(Cli::parse()) {
-        Ok(()) if tracer_kit::interrupt::requested() => ExitCode::from(tracer_kit::interrupt::exit_code()),
+        Ok(()) if tracer_kit::interrupt::requested() => {
+            ExitCode::from(tracer_kit::interrupt::exit_code())
+        }
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e}");

@@ -11,13 +11,13 @@
 //! differs between on and off (must be 0). The Appendix A R-function models, as their
 //! formula tapes, follow.
 
-use std::fmt::Write as _;
-use std::time::{Duration, Instant};
 use model_ir::arith::ArithKind;
+use model_ir::shape::Aabb;
 use model_sources::noise::SplitMix64;
 use model_sources::{Model, PaperModel};
+use std::fmt::Write as _;
+use std::time::{Duration, Instant};
 use tracer::render::{render_kind, RenderOptions, RenderResult};
-use model_ir::shape::Aabb;
 
 /// What to run.
 #[derive(Clone, Debug)]

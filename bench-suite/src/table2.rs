@@ -6,10 +6,10 @@
 //! in the paper's runs); the median of the frames is reported. The configurations are
 //! run round-robin, one frame each per round, so a drifting clock affects them alike.
 
-use std::time::Duration;
-use tracer_gpu::{Gpu, GpuArith, Tracer};
 use model_sources::PaperModel;
+use std::time::Duration;
 use tracer::render::RenderOptions;
+use tracer_gpu::{Gpu, GpuArith, Tracer};
 
 /// The paper's Table 2 (fps): IA, RAA, RevAA without culling, RevAA with culling.
 ///

@@ -20,8 +20,8 @@
 
 use arith_core::{Arithmetic, Range};
 use model_ir::arith::ArithKind;
-use model_sources::noise::SplitMix64 as Rng;
 use model_ir::shape::{Aabb, Shape};
+use model_sources::noise::SplitMix64 as Rng;
 
 /// Sampling settings.
 #[derive(Clone, Copy, Debug)]
@@ -238,7 +238,8 @@ pub fn measure_model<S: Shape + ?Sized>(
                 cell_flat[si] += 1;
             } else {
                 for (k, &kind) in kinds.iter().enumerate() {
-                    let (lo, hi) = model_ir::with_arith!(kind, A => cell_range::<A, S>(shape, &cell));
+                    let (lo, hi) =
+                        model_ir::with_arith!(kind, A => cell_range::<A, S>(shape, &cell));
                     let w = hi - lo;
                     if w.is_finite() {
                         cell_r[k][si].push(w / (thi - tlo));

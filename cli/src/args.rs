@@ -233,4 +233,3 @@ pub fn parse_positive(flag: &str, s: &str) -> Result<f64, String> {
         _ => Err(format!("{flag} '{s}': expected a positive number")),
     }
 }
-

@@ -7,13 +7,13 @@
 //! written (the mesh goes to a temporary file renamed into place), the exit code is
 //! 130.
 
+use crate::stats_json::{json_string, stats_json};
 use model_ir::arith::ArithKind;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use tracer_mesh::{
     mesh_kind, output, MeshError, MeshOptions, MeshResult, MeshStats, DEFAULT_EXTRA_DEPTH,
 };
-use std::path::{Path, PathBuf};
-use std::sync::Arc;
-use crate::stats_json::{json_string, stats_json};
 
 /// The default `--depth`.
 pub const DEFAULT_DEPTH: u32 = 6;

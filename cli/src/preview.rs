@@ -3,9 +3,8 @@
 //! of the two. The arguments and the engine they set up are in [`crate::preview_args`].
 
 use crate::preview_args::{prepare, save_image, PreviewArgs};
-use std::path::{Path, PathBuf};
 use std::time::Instant;
-use tracer::progressive::{write_png, Engine, Rect, Step};
+use tracer::progressive::{Bound, Engine, Rect, Step};
 
 /// Runs `tracer preview`: headless ([`run_headless`]) or in a window
 /// ([`crate::preview_window::run_window`]).

@@ -14,16 +14,16 @@
 //! seconds of refinement.
 
 use crate::preview_args::{options_for, save_image, PreviewArgs};
-use model_sources::Model;
-use tracer::progressive::{write_png, Engine, Options, Rect, SharedImage, Stats, Step};
-use model_ir::shape::{Shape, View};
 use minifb::{Key, MouseButton, MouseMode, Window, WindowOptions};
+use model_ir::shape::{Shape, View};
+use model_sources::Model;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::mpsc;
 use std::sync::Arc;
 use std::thread;
 use std::time::{Duration, Instant, SystemTime};
+use tracer::progressive::{write_png, Engine, Options, Rect, SharedImage, Stats, Step};
 
 /// Messages from the display thread to the refinement thread.
 pub enum Command<S: Shape> {
@@ -200,7 +200,10 @@ pub fn run_window(
             .map(|(x, y)| ((x as u32).min(w - 1), (y as u32).min(h - 1)))
     };
     let result = loop {
-        if !window.is_open() || window.is_key_down(Key::Escape) || tracer_kit::interrupt::requested() {
+        if !window.is_open()
+            || window.is_key_down(Key::Escape)
+            || tracer_kit::interrupt::requested()
+        {
             break Ok(());
         }
         if args
@@ -234,7 +237,8 @@ pub fn run_window(
                 let (dx, dy) = (p.0 as f64 - p0.0 as f64, p.1 as f64 - p0.1 as f64);
                 if moved || dx.abs() + dy.abs() > 2.0 {
                     orbit_from = Some((p0, v0, true));
-                    let v = model_ir::camera::orbit(&v0, -dx * ORBIT_PER_PIXEL, dy * ORBIT_PER_PIXEL);
+                    let v =
+                        model_ir::camera::orbit(&v0, -dx * ORBIT_PER_PIXEL, dy * ORBIT_PER_PIXEL);
                     if v != view {
                         restart = Some((None, v));
                     }

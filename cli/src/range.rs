@@ -19,15 +19,17 @@ pub fn arith_help(all: bool) -> String {
     }
 }
 
-#[derive(clap::Args, Debug)]
 /// Arguments of `tracer range`.
+#[derive(clap::Args, Debug)]
 pub struct RangeArgs {
+    /// The model: see `tracer render --help`.
     #[command(flatten)]
     pub src: ModelArgs,
     /// The box XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX (default: the model's domain; [-2, 2]^3 for
     /// a formula).
     #[arg(long = "box", allow_hyphen_values = true)]
     pub bbox: Option<String>,
+    /// Arithmetic.
     #[arg(long, default_value = "all", help = arith_help(true))]
     pub arith: String,
     /// Print JSON: [{"arith": "revaa", "lo": .., "hi": ..}, ...] (null for an infinite bound).
@@ -41,7 +43,6 @@ fn range_over<A: Arithmetic, S: Shape>(shape: &S, b: &Aabb) -> (f64, f64) {
     let z = <A::Cell as Range>::input(2, b.min.z, b.max.z);
     shape.eval(x, y, z).bounds()
 }
-
 
 /// Runs `tracer range`: the range of the model over the box in each arithmetic asked
 /// for, as text or JSON.
@@ -58,12 +59,7 @@ pub fn run_range(a: &RangeArgs) -> Result<(), String> {
     };
     let rows: Vec<(ArithKind, (f64, f64))> = kinds
         .iter()
-        .map(|&k| {
-            (
-                k,
-                with_arith!(k, A => range_over::<A, _>(&model.shape, &b)),
-            )
-        })
+        .map(|&k| (k, with_arith!(k, A => range_over::<A, _>(&model.shape, &b))))
         .collect();
     if a.json {
         let items: Vec<String> = rows

@@ -15,9 +15,10 @@ use tracer_kit::bspline_filter::Filter;
 use tracer_kit::out;
 use tracer_kit::output::{check_outputs, write_depth, write_png};
 
-#[derive(clap::Args, Debug)]
 /// Arguments of `tracer render`.
+#[derive(clap::Args, Debug)]
 pub struct RenderArgs {
+    /// The model.
     #[command(flatten)]
     pub src: ModelArgs,
     /// Arithmetic.
@@ -32,6 +33,7 @@ pub struct RenderArgs {
     /// Depth map: .npy (float32, shape (H, W)) or .exr (one float32 channel Z); +inf on a miss.
     #[arg(long)]
     pub depth: Option<PathBuf>,
+    /// The camera.
     #[command(flatten)]
     pub view: ViewArgs,
     /// Domain box XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX.
@@ -119,11 +121,7 @@ fn render_gpu(
 }
 
 #[cfg(not(feature = "gpu"))]
-fn render_gpu(
-    _: ArithKind,
-    _: &Model,
-    _: &RenderOptions,
-) -> Result<RenderResult, String> {
+fn render_gpu(_: ArithKind, _: &Model, _: &RenderOptions) -> Result<RenderResult, String> {
     unreachable!("check_gpu_flags refuses --device gpu without the gpu feature")
 }
 
@@ -237,7 +235,13 @@ pub fn run_render(a: &RenderArgs) -> Result<(), String> {
         );
     }
     if json {
-        let j = stats_json(&render_fields(&name, width, height, kind.name(), &res.stats));
+        let j = stats_json(&render_fields(
+            &name,
+            width,
+            height,
+            kind.name(),
+            &res.stats,
+        ));
         out!("{j}");
     } else {
         out!(
@@ -321,6 +325,9 @@ pub fn render_fields(
         ("cut", cut.to_string()),
     ];
     fields.extend(counters.map(|(k, v)| (k, v.to_string())));
-    fields.push(("mean_evals_per_hit", format!("{:?}", s.mean_evals_per_hit())));
+    fields.push((
+        "mean_evals_per_hit",
+        format!("{:?}", s.mean_evals_per_hit()),
+    ));
     fields
 }

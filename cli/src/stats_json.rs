@@ -4,7 +4,10 @@
 /// The JSON object of `fields` (names, and values already written as JSON), in order,
 /// on one line.
 pub fn stats_json(fields: &[(&str, String)]) -> String {
-    let body: Vec<String> = fields.iter().map(|(k, v)| format!("\"{k}\": {v}")).collect();
+    let body: Vec<String> = fields
+        .iter()
+        .map(|(k, v)| format!("\"{k}\": {v}"))
+        .collect();
     format!("{{{}}}", body.join(", "))
 }
 

@@ -55,7 +55,7 @@ pub fn run_view(args: &ViewWindowArgs) -> Result<(), String> {
         let _ = args;
         Err(
             "tracer view: this tracer was built without the GPU renderer; build it with \
-             `cargo build --release -p tracer --features gpu`"
+             `cargo build --release -p tracer-cli --features gpu`"
                 .into(),
         )
     }
@@ -64,17 +64,17 @@ pub fn run_view(args: &ViewWindowArgs) -> Result<(), String> {
 #[cfg(feature = "gpu")]
 mod on_gpu {
     use super::ViewWindowArgs;
+    use crate::args::{model_source, parse_size};
+    use crate::preview_window::{ORBIT_PER_PIXEL, ZOOM_PER_STEP};
+    use minifb::{Key, KeyRepeat, MouseButton, MouseMode, Window, WindowOptions};
     use model_ir::arith::ArithKind;
     use model_ir::camera::{orbit, zoom};
-    use crate::preview_window::{ORBIT_PER_PIXEL, ZOOM_PER_STEP};
-    use crate::args::{model_source, parse_size};
-    use tracer_gpu::render::tracer_gpu::{Gpu, Tracer};
-    use tracer::progressive::pack;
-    use tracer_kit::output::{check_outputs, write_png};
-    use tracer::render::{RenderOptions, RenderResult};
     use model_ir::shape::View;
-    use minifb::{Key, KeyRepeat, MouseButton, MouseMode, Window, WindowOptions};
     use std::time::Instant;
+    use tracer::progressive::pack;
+    use tracer::render::{RenderOptions, RenderResult};
+    use tracer_gpu::{Gpu, Tracer};
+    use tracer_kit::output::{check_outputs, write_png};
 
     /// Orbit per press of an arrow key, in radians (a drag and the wheel move as in
     /// the previewer's window).
@@ -145,7 +145,9 @@ mod on_gpu {
         // A drag: where it started and the view then.
         let mut drag: Option<((f32, f32), View)> = None;
         let result = loop {
-            if !window.is_open() || window.is_key_down(Key::Escape) || tracer_kit::interrupt::requested()
+            if !window.is_open()
+                || window.is_key_down(Key::Escape)
+                || tracer_kit::interrupt::requested()
             {
                 break Ok(());
             }

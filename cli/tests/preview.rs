@@ -13,7 +13,8 @@ fn a_failed_write_keeps_the_image_and_says_where() {
     let blocker = std::env::temp_dir().join(format!("tracer-blocker-{}", std::process::id()));
     std::fs::write(&blocker, "a file, not a folder").unwrap();
     let img = SharedImage::new(4, 3, [10, 20, 30]);
-    let e = tracer_cli::preview_args::save_image(&img, &blocker.join("out.png"), "--out").unwrap_err();
+    let e =
+        tracer_cli::preview_args::save_image(&img, &blocker.join("out.png"), "--out").unwrap_err();
     assert!(
         e.starts_with("--out '") && e.contains("the image is kept in "),
         "{e}"

@@ -8,9 +8,9 @@ use std::time::Duration;
 mod common;
 use common::start_xvfb;
 use std::sync::{Mutex, MutexGuard};
-use tracer_cli::preview_args::PreviewArgs;
-use tracer_cli::preview::run_preview;
 use tracer_cli::args::ModelArgs;
+use tracer_cli::preview::run_preview;
+use tracer_cli::preview_args::PreviewArgs;
 
 /// One test at a time: two Xvfb servers started at once can race for one display.
 static ONE_AT_A_TIME: Mutex<()> = Mutex::new(());

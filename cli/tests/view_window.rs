@@ -1,17 +1,20 @@
 //! `tracer view`'s window under a virtual X display (Xvfb): it opens, shows the GPU's
 //! frame and writes it to `--out` on closing, the same image `tracer render --device
 //! gpu` gives. Skipped, with a message, where Xvfb or (outside CI) an adapter is missing.
-mod common;
-#[path = "../../tracer/tests/common/mod.rs"]
+#![cfg(feature = "gpu")]
+
+#[path = "../../tracer-gpu/tests/common/mod.rs"]
+mod gpu_device;
+#[path = "common/mod.rs"]
 mod x11;
 
-use tracer_cli::view::{run_view, ViewWindowArgs};
-use tracer_cli::args::ModelArgs;
 use tracer::render::RenderOptions;
+use tracer_cli::args::ModelArgs;
+use tracer_cli::view::{run_view, ViewWindowArgs};
 
 #[test]
 fn window_shows_the_gpu_render_and_writes_it_on_closing() {
-    let Some(gpu) = common::gpu() else { return };
+    let Some(gpu) = gpu_device::gpu() else { return };
     let Some((display, mut xvfb)) = x11::start_xvfb() else {
         println!("skipped: Xvfb is not installed");
         return;
@@ -42,7 +45,8 @@ fn window_shows_the_gpu_render_and_writes_it_on_closing() {
     let shown = image::open(&out).expect("last frame written").to_rgb8();
     let model = model_sources::find("bretzel").unwrap();
     let opts = RenderOptions::new(&model, 64, 48);
-    let want = tracer_gpu::render::render(gpu, model_ir::arith::ArithKind::Revaa, &model, &opts).unwrap();
+    let want =
+        tracer_gpu::render::render(gpu, model_ir::arith::ArithKind::Revaa, &model, &opts).unwrap();
     assert!(want.stats.hits > 100, "{} hits", want.stats.hits);
     assert_eq!(shown.dimensions(), (64, 48));
     assert_eq!(

@@ -18,12 +18,12 @@
 //! The choices live in a thread-local script, since [`Real`] values are created without
 //! a context (constants); one evaluation runs on one thread from start to end.
 
-use model_ir::shape::Shape;
 use arith_core::branch::Step;
 use arith_core::dual::Dual;
 use arith_core::{Known, Real};
 use core::ops::{Add, Div, Mul, Neg, Sub};
 use glam::DVec3;
+use model_ir::shape::Shape;
 use std::cell::Cell;
 
 /// Ties enumerated at most (so at most `2^MAX_TIES` evaluations, branches).

@@ -12,9 +12,9 @@
 //! taken independent (`p` and `q` are), rounded down.
 
 use super::grid::{cell_inputs, Clipped};
-use model_ir::shape::{Aabb, Shape};
 use arith_core::dual::Dual;
 use arith_core::{Arithmetic, Range};
+use model_ir::shape::{Aabb, Shape};
 
 /// Whether the cell `b` of `shape` clipped to `domain` is certified.
 pub fn certified<A: Arithmetic, S: Shape>(shape: &S, domain: &Aabb, b: &Aabb) -> bool {
@@ -60,9 +60,9 @@ pub fn inner_product_lower_bound(g: &[(f64, f64); 3]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use model_ir::arith::arith_revaa::RevAaArith;
     use arith_core::Real;
     use glam::DVec3;
+    use model_ir::arith::arith_revaa::RevAaArith;
 
     struct Ball;
     impl Shape for Ball {

@@ -17,13 +17,13 @@ use super::merge::{merge, Clustered};
 use super::patches::{pieces, NONE};
 use super::qef::Qef;
 use crate::triangles::Mesh;
-use tracer_kit::progress::Ticker;
-use model_ir::shape::{Aabb, Shape};
 use arith_core::Arithmetic;
 use glam::DVec3;
+use model_ir::shape::{Aabb, Shape};
 use rayon::prelude::*;
 use rustc_hash::FxHashSet;
 use std::sync::atomic::{AtomicBool, Ordering};
+use tracer_kit::progress::Ticker;
 
 /// Vertices stay this share of a cell inside their cell's faces.
 pub const MARGIN: f64 = 1e-4;

@@ -14,10 +14,10 @@
 
 use super::branches::{branches, Branch};
 use super::grid::Clipped;
-use model_ir::shape::{Aabb, Shape};
 use arith_core::dual::Dual;
 use arith_core::{Arithmetic, Range, Real};
 use glam::DVec3;
+use model_ir::shape::{Aabb, Shape};
 
 /// Segments narrower than this share of the edge are not split further.
 const MIN_SHARE: f64 = 1.0 / (1u64 << 24) as f64;

@@ -13,9 +13,9 @@
 //! Corners and cells are addressed by integer coordinates at one level, packed 21 bits
 //! per axis into a `u64` key ([`key`]), which bounds the depth at [`MAX_DEPTH`].
 
-use model_ir::shape::{Aabb, Shape};
 use arith_core::{Range, Real};
 use glam::DVec3;
+use model_ir::shape::{Aabb, Shape};
 
 /// The deepest level the keys can address (corner coordinates up to `2^20`).
 pub const MAX_DEPTH: u32 = 20;

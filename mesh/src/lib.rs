@@ -76,16 +76,16 @@ pub mod self_intersections;
 pub mod topology;
 pub mod triangles;
 
-use model_ir::arith::ArithKind;
-use tracer_kit::progress::{Progress, Ticker};
-use model_ir::shape::{check_domain, Aabb, Shape};
 use arith_core::Arithmetic;
+use model_ir::arith::ArithKind;
+use model_ir::shape::{check_domain, Aabb, Shape};
 use rayon::prelude::*;
 use std::fmt;
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 pub use topology::Topology;
+use tracer_kit::progress::{Progress, Ticker};
 pub use triangles::Mesh;
 
 /// What to mesh and how.

@@ -27,9 +27,9 @@
 use super::certificate::certified;
 use super::consistency::finer_topology;
 use super::grid::{cell_inputs, corner_mask, corner_of, crosses, Clipped, Grid};
-use model_ir::shape_batch::Batch;
-use model_ir::shape::{Aabb, Shape};
 use arith_core::{Arithmetic, Range};
+use model_ir::shape::{Aabb, Shape};
+use model_ir::shape_batch::Batch;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -301,9 +301,9 @@ pub fn child(c: [u32; 3], i: usize) -> [u32; 3] {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use model_ir::arith::arith_ia::IaArith;
     use arith_core::Real;
     use glam::DVec3;
+    use model_ir::arith::arith_ia::IaArith;
 
     /// A ball of radius `.0` centred at `(.1, .1, .1)`.
     struct Ball(f64, f64);

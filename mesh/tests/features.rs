@@ -7,9 +7,9 @@
 use arith_core::Real;
 use glam::{DMat3, DVec3};
 use model_ir::arith::ArithKind;
+use model_ir::shape::{Aabb, Shape};
 use tracer_mesh::grid::Grid;
 use tracer_mesh::{mesh_kind, Mesh, MeshOptions, MeshResult};
-use model_ir::shape::{Aabb, Shape};
 
 fn run<S: Shape>(shape: &S, depth: u32, branch_planes: bool) -> MeshResult {
     let mut opts = MeshOptions::new(Aabb::cube(1.0), depth);

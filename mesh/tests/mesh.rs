@@ -6,11 +6,11 @@
 
 use arith_core::Real;
 use glam::DVec3;
-use proptest::prelude::*;
 use model_ir::arith::ArithKind;
+use model_ir::shape::{Aabb, Shape};
+use proptest::prelude::*;
 use tracer_mesh::grid::Grid;
 use tracer_mesh::{mesh_kind, Mesh, MeshOptions, MeshResult};
-use model_ir::shape::{Aabb, Shape};
 
 fn run<S: Shape>(shape: &S, domain: Aabb, depth: u32) -> MeshResult {
     let opts = MeshOptions::new(domain, depth);

@@ -70,9 +70,9 @@ pub mod tape;
 pub mod tape_shape;
 
 pub use arith_core;
-pub use glam;
 pub use builder::{Builder, Val};
 pub use fold::{Bin, EPS};
+pub use glam;
 pub use instr::{Instr, Op};
 pub use record::Recorder;
 pub use specialise::{CACHE_LIMIT, MIN_SPECIALISE_LEN};

@@ -45,11 +45,7 @@ impl Shape for Tape {
         Tape::specialise_groups(self, regions, groups)
     }
 
-    fn specialise_values<R: Range>(
-        &self,
-        region: &[R; 3],
-        within: f64,
-    ) -> Option<Self> {
+    fn specialise_values<R: Range>(&self, region: &[R; 3], within: f64) -> Option<Self> {
         Tape::specialise_values(self, region, within)
     }
 }

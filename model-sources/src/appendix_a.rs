@@ -6,12 +6,12 @@
 //! a margin around the solid; views frame the solid in a three-quarter view.
 
 use super::{AnyShape, Model};
-use model_ir::shape::{Aabb, Shape, View};
 use arith_core::rfunc::{
     blend_intersect, blend_union, hf_blend_intersect, hf_blend_union, intersect, subtract, union,
 };
 use arith_core::Real;
 use glam::DVec3;
+use model_ir::shape::{Aabb, Shape, View};
 
 /// A model of Appendix A (plus our "sphere with trimming", which the paper only cites).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -4,11 +4,11 @@
 //! (eq. 9), the blobby model (eq. 10) and the hypertextures (eqs. 11, 12) with the
 //! opposite sign (negative inside); here each is negated.
 use super::{AnyShape, Model};
-use model_ir::gradient_bound::auto_lipschitz;
 use crate::noise::{eval_field, Cellular, Field3, Perlin, SparseConvolution, SplitMix64};
-use model_ir::shape::{Aabb, Shape, View};
 use arith_core::{Known, Real};
 use glam::DVec3;
+use model_ir::gradient_bound::auto_lipschitz;
+use model_ir::shape::{Aabb, Shape, View};
 use std::sync::OnceLock;
 
 /// A model of the progressive-refinement paper.

@@ -14,8 +14,8 @@
 //! model units across the image. Other comment lines are plain comments. Flags on the
 //! command line override what the header states.
 
-use model_ir::shape::{check_domain, Aabb, View};
 use glam::DVec3;
+use model_ir::shape::{check_domain, Aabb, View};
 
 /// What a header states; `None` where it is silent.
 #[derive(Clone, Debug, Default, PartialEq)]

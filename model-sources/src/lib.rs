@@ -24,8 +24,8 @@ pub mod vm;
 pub use appendix_a::PaperModel;
 pub use gamito_maddock::GmModel;
 
-use model_ir::shape::{Aabb, Shape, View};
 use arith_core::Real;
+use model_ir::shape::{Aabb, Shape, View};
 use model_ir::Tape;
 use std::path::Path;
 
@@ -368,8 +368,8 @@ pub fn from_text(
         model.domain = d;
     }
     if dom.is_some() || !h.view.is_empty() {
-        let base =
-            model_ir::camera::frame_box(&model.domain).map_err(|e| format!("{path}: domain: {e}"))?;
+        let base = model_ir::camera::frame_box(&model.domain)
+            .map_err(|e| format!("{path}: domain: {e}"))?;
         model.view = h.view.apply(base);
     }
     Ok(model)

@@ -43,8 +43,8 @@ pub(crate) fn cast<A: 'static, B: 'static>(v: A) -> Option<B> {
 /// ([`model_ir::arith::ArithKind`]), so a new arithmetic needs no line here.
 macro_rules! for_each_range {
     ($m:ident) => {
-        for kind in $model_ir::arith::ArithKind::ALL {
-            $model_ir::with_arith!(kind, A => {
+        for kind in model_ir::arith::ArithKind::ALL {
+            model_ir::with_arith!(kind, A => {
                 $m!(<A as Arithmetic>::Ray);
                 $m!(<A as Arithmetic>::Cell);
             });

@@ -4,12 +4,12 @@
 
 use arith_core::rfunc::{intersect, subtract, union};
 use arith_core::{Range, Real};
-use proptest::prelude::*;
-use proptest::sample::select;
 use model_sources::formula::{
     compile, parse, parse_program, BinOp, Binding, Expr, Func, Op, ParseError, Program, Tape,
     ToFormula, Var, MAX_TREE_DEPTH, SYNTAX,
 };
+use proptest::prelude::*;
+use proptest::sample::select;
 
 /// Bitwise equality that treats every NaN as equal.
 fn same(a: f64, b: f64) -> bool {

@@ -5,8 +5,8 @@ use arith_core::dual::Dual;
 use arith_core::{Range, Real};
 use arith_ia::Interval;
 use glam::DVec3;
-use model_sources::noise::{eval_field, Cellular, Field3, Perlin, SparseConvolution, SplitMix64};
 use model_ir::shape::Shape;
+use model_sources::noise::{eval_field, Cellular, Field3, Perlin, SparseConvolution, SplitMix64};
 
 fn fields() -> Vec<(&'static str, Box<dyn Field3>)> {
     vec![

@@ -11,10 +11,10 @@ use arith_core::Real;
 use glam::DVec3;
 use model_ir::arith::ArithKind;
 use model_ir::camera::Camera;
+use model_ir::shape::{Aabb, Shape, View};
 use model_sources::formula::Tape;
 use tracer::render::{render_kind, RenderOptions};
 use tracer::search::ray::clip;
-use model_ir::shape::{Aabb, Shape, View};
 use tracer_gpu::{GpuArith, Status, Tracer};
 
 const N: u32 = 64;

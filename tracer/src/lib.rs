@@ -81,4 +81,3 @@ macro_rules! reexport_arith_crates {
     };
 }
 arith_list!(@crates [reexport_arith_crates]);
-

@@ -2,8 +2,8 @@
 //! misses is checked by sampling its ray for a sign change, which proves a root.
 
 use super::Cell;
-use model_sources::PaperModel;
 use model_ir::shape::Shape;
+use model_sources::PaperModel;
 
 /// Samples per ray when checking a disputed pixel for a sign change.
 pub(super) const SIGN_SAMPLES: usize = 20_000;

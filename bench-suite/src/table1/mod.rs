@@ -22,14 +22,14 @@ pub use report::{csv, markdown, utc_now};
 
 use crate::counter::{count_ops, Counter, OpCounts};
 use crate::paper::{self, PaperRow};
+use model_ir::arith::ArithKind;
+use model_ir::shape::Shape;
+use model_sources::PaperModel;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
-use model_ir::arith::ArithKind;
-use model_sources::PaperModel;
 use tracer::render::{render_kind, RenderOptions, RenderResult};
-use model_ir::shape::Shape;
 
 /// Default fraction of the paper's resolution per axis.
 pub const DEFAULT_SCALE: f64 = 0.1;

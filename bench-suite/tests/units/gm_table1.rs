@@ -1,7 +1,7 @@
 //! Tests of [`bench_suite::progressive`].
 
-use bench_suite::gm_table1::*;
 use bench_suite::gm_rows::BenchRow;
+use bench_suite::gm_table1::*;
 
 fn row(model: &str, method: &str, evals: u64) -> BenchRow {
     BenchRow {

@@ -3,8 +3,8 @@
 use arith_core::Real;
 use bench_suite::tightness::*;
 use model_ir::arith::ArithKind;
-use model_sources::noise::SplitMix64 as Rng;
 use model_ir::shape::{Aabb, Shape};
+use model_sources::noise::SplitMix64 as Rng;
 
 /// `f = x*y - z`, whose true range over a box is known exactly.
 struct Saddle;

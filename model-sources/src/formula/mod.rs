@@ -36,7 +36,6 @@ pub use compile::{compile, CompileError, ToFormula};
 pub use model_ir::{Instr, Op, Tape, CACHE_LIMIT, EPS, MIN_SPECIALISE_LEN};
 pub use parse::{parse_program, ParseError, MAX_EXPONENT, MAX_NESTING, MAX_TREE_DEPTH};
 
-
 /// The text of [`SYNTAX`], also the item's rustdoc.
 macro_rules! syntax_text {
     () => {

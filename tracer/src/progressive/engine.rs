@@ -7,9 +7,6 @@
 
 use super::image::{pack, SharedImage};
 use super::plan::Plan;
-use model_ir::arith::ArithKind;
-use model_ir::camera::Camera;
-use tracer_kit::bspline_filter::{Filter, Kernel};
 use crate::render::shade::{self, Light, Material, BACKGROUND};
 use crate::search::cone::{trace_cone, trace_cone_local, ConeEnd};
 use crate::search::cone_range::trace_cone_range;
@@ -17,10 +14,13 @@ use crate::search::lipschitz::{
     box_distance, clip_to_box, local_trace, overshoot_trace, Bounded, LocalCounts,
 };
 use crate::search::ray::{first_root, Precision, RayParams, RayStats, Start};
-use model_ir::shape::{Aabb, Shape, View};
 use glam::DVec3;
+use model_ir::arith::ArithKind;
+use model_ir::camera::Camera;
+use model_ir::shape::{Aabb, Shape, View};
 use std::collections::VecDeque;
 use std::sync::Arc;
+use tracer_kit::bspline_filter::{Filter, Kernel};
 
 /// How a child cone's starting distance is chosen.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]

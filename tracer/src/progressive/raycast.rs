@@ -4,12 +4,12 @@
 //! must equal. It is a driver (a camera and a loop over pixels) over those searches, so
 //! it lives with the renderers rather than in `search/`.
 
-use model_ir::arith::ArithKind;
-use model_ir::camera::Camera;
 use crate::search::lipschitz::{
     clip_to_box, local_trace, overshoot_trace, sphere_trace, Bounded, LocalCounts,
 };
 use crate::search::ray::{first_root, Precision, RayParams, RayStats, Start};
+use model_ir::arith::ArithKind;
+use model_ir::camera::Camera;
 use model_ir::shape::{Aabb, Shape, View};
 
 /// Which conventional ray caster.

@@ -8,13 +8,8 @@ use tracer_kit::bspline_filter::Filter;
 /// eq. (A.1), each pixel's depth the nearest of its own `aa x aa` sub-pixels' (`+inf`
 /// when they all miss) and its hit flag whether any of them hit. The counters are the
 /// fine render's.
-pub fn downsample_render(
-    fine: &RenderResult,
-    w: u32,
-    h: u32,
-    filter: &Filter,
-) -> RenderResult {
-    let aa = filter.aa;
+pub fn downsample_render(fine: &RenderResult, w: u32, h: u32, filter: &Filter) -> RenderResult {
+    let aa = filter.aa();
     let (vw, vh) = (w * aa, h * aa);
     debug_assert_eq!((fine.width, fine.height), (vw, vh));
     let sub: Vec<[u8; 3]> = fine

@@ -237,4 +237,3 @@ fn render_tile<A: Arithmetic, S: Shape>(
     st.pixels_culled = cs.pixels_culled;
     out
 }
-

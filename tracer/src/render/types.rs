@@ -2,9 +2,9 @@
 //! ([`RenderResult`], with its counters [`RenderStats`]), and what the tiles share and
 //! return inside a render.
 
-use crate::search::cull::{CullStats, Culler};
-use crate::search::ray::{Precision, RayParams};
 use crate::render::shade::{self, Light, Material};
+use crate::search::cull::Culler;
+use crate::search::ray::{Precision, RayParams};
 use model_ir::camera::Camera;
 use model_ir::shape::{Aabb, View};
 use model_sources::Model;
@@ -161,7 +161,8 @@ impl RenderStats {
 }
 
 /// Sums the counters (wall times too; `cut` if either was cut), as the searches'
-/// [`RayStats`](crate::search::ray::RayStats) and [`CullStats`] sum.
+/// [`RayStats`](crate::search::ray::RayStats) and
+/// [`CullStats`](crate::search::cull::CullStats) sum.
 impl std::ops::AddAssign for RenderStats {
     fn add_assign(&mut self, o: RenderStats) {
         self.wall += o.wall;

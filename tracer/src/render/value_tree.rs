@@ -14,8 +14,8 @@
 //! always fits one.
 
 use crate::render::tile_shapes::ranges;
-use model_ir::shape::{Aabb, Shape};
 use glam::DVec3;
+use model_ir::shape::{Aabb, Shape};
 
 /// Below this many instructions a node's shape is not split further: one more fold
 /// costs about as much as the evaluations it would save.

@@ -6,8 +6,8 @@
 //! own. The progressive previewer's engine issues the cones, one per image sample.
 
 use super::lipschitz::Bounded;
-use model_ir::shape::{Aabb, Shape};
 use glam::DVec3;
+use model_ir::shape::{Aabb, Shape};
 
 /// How far cone tracing got (Section 3.1, Fig. 3).
 #[derive(Clone, Copy, Debug, PartialEq)]

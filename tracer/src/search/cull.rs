@@ -13,15 +13,15 @@
 //! slice is spanned by the corner origins and directions, the frustum form is exact
 //! for the orthographic bundle (no product terms).
 
-use model_ir::camera::Camera;
-use model_ir::shape_batch::{Batch, Groups};
 use crate::search::ray::{Pruner, Start};
 use crate::search::windows::{Refine, Windows};
-use model_ir::shape::{Aabb, Shape};
 use arith_core::pack::LANES;
 use arith_core::round::{up_finite, ETA, U};
 use arith_core::{Arithmetic, Range};
 use glam::DVec3;
+use model_ir::camera::Camera;
+use model_ir::shape::{Aabb, Shape};
+use model_ir::shape_batch::{Batch, Groups};
 use std::sync::Arc;
 
 /// Counters of the culling pass.
@@ -909,8 +909,8 @@ mod tests {
     use crate::search::ray::clip;
     use model_ir::shape::View;
 
-    use model_ir::arith::ArithKind;
     use arith_core::Real;
+    use model_ir::arith::ArithKind;
 
     /// `1 - r^2` (`touch == false`) or the tangent touch `-(r^2 - 1)^2` (no sign change).
     struct Ball {

@@ -8,13 +8,13 @@
 //! from it (sign-change shortcut, marching from the cell's slice) and their measured effect
 //! are in `docs/algorithm-1-ray.md`.
 
-use model_ir::shape_batch::{Batch, Groups};
 use crate::search::windows::Windows;
-use model_ir::shape::{Aabb, Shape};
 use arith_core::pack::LANES;
 use arith_core::round::ETA;
 use arith_core::{Arithmetic, Range};
 use glam::DVec3;
+use model_ir::shape::{Aabb, Shape};
+use model_ir::shape_batch::{Batch, Groups};
 
 /// When to stop subdividing: a segment `[t0, t1]` is resolved once
 /// `t1 - t0 <= abs + rel * max(t0, 0)`.

@@ -24,7 +24,6 @@ pub struct TileRays<S> {
     pub traced: u64,
 }
 
-
 /// The rays of the tile `rect` that culling leaves to search (every ray of the tile
 /// without culling), each clipped to the domain and to the depths culling left it, in
 /// the order culling hands them out (cell by cell). `culler` is `None` without culling.

@@ -2,12 +2,12 @@
 //! hits (fidget's bear), RevAA elsewhere; and a render in the chosen arithmetic keeps
 //! the wall away.
 
-use model_ir::arith::ArithKind;
 use glam::DVec3;
+use model_ir::arith::ArithKind;
+use model_ir::shape::{Aabb, View};
 use model_sources::vm;
 use tracer::render::auto_arith::choose;
 use tracer::render::{render_kind, RenderOptions};
-use model_ir::shape::{Aabb, View};
 
 fn bear_options(w: u32, h: u32) -> (model_sources::formula::Tape, RenderOptions) {
     let path = concat!(

@@ -8,13 +8,13 @@
 use arith_core::rfunc::{intersect, subtract, union};
 use arith_core::{Range, Real};
 use glam::DVec3;
-use proptest::prelude::*;
 use model_ir::arith::ArithKind;
+use model_ir::shape::{Aabb, Shape, View};
 use model_sources::formula::{parse, Tape};
 use model_sources::hyperfun::{parse_hyperfun, parse_hyperfun_with, HfOptions};
 use model_sources::noise::SplitMix64;
+use proptest::prelude::*;
 use tracer::render::{render_kind, RenderOptions};
-use model_ir::shape::{Aabb, Shape, View};
 
 fn hf(src: &str) -> Tape {
     match parse_hyperfun(src) {

@@ -6,12 +6,12 @@
 
 use arith_core::{Range, Real};
 use glam::DVec3;
-use proptest::prelude::*;
 use model_ir::arith::ArithKind;
 use model_ir::camera::Camera;
-use model_sources::{self, format, from_text, Model};
-use tracer::render::{render_kind, RenderOptions};
 use model_ir::shape::{Aabb, Shape, View};
+use model_sources::{self, format, from_text, Model};
+use proptest::prelude::*;
+use tracer::render::{render_kind, RenderOptions};
 
 /// The unit ball minus the box `[-0.5, 0.5]^2 x [0, 2]` (a square notch from the top),
 /// with `min` as intersection: `min(1 - r^2, -min(0.25 - x^2, 0.25 - y^2, 1 - (z-1)^2))`.
@@ -148,7 +148,10 @@ fn headers_set_domain_and_view() {
     // Without a header: the format's domain, framed.
     let m = load_text("1 - x^2 - y^2 - z^2", "expr");
     assert_eq!(m.domain, Aabb::cube(2.0));
-    assert_eq!(m.view, model_ir::camera::frame_box(&Aabb::cube(2.0)).unwrap());
+    assert_eq!(
+        m.view,
+        model_ir::camera::frame_box(&Aabb::cube(2.0)).unwrap()
+    );
     let m = load_text("# domain: 0,0,0,1,2,3\n# view: ortho=2.5\nx", "expr");
     let framed = model_ir::camera::frame_box(&m.domain).unwrap();
     assert_eq!(

@@ -1,12 +1,12 @@
 //! Engine tests for the progressive refinement previewer (headless).
 
 use glam::DVec3;
+use model_ir::shape::{Aabb, Shape, View};
 use model_sources::gamito_maddock::GmModel;
 use model_sources::Model;
 use tracer::progressive::*;
 use tracer::search::cone::{trace_cone, ConeEnd};
 use tracer::search::lipschitz::Bounded;
-use model_ir::shape::{Aabb, Shape, View};
 
 fn model(name: &str) -> Model {
     model_sources::gamito_maddock::all()
@@ -493,4 +493,3 @@ fn local_bounds_keep_the_guarantee_and_save_evaluations() {
     cam_check("mitchell-gm", 32, 24);
     cam_check("blobby", 16, 12);
 }
-

@@ -6,9 +6,9 @@ use arith_core::Real;
 use glam::DVec3;
 use model_ir::arith::ArithKind;
 use model_ir::camera::Camera;
+use model_ir::shape::{Aabb, Shape, View};
 use tracer::render::shade::Light;
 use tracer::render::{render_kind, RenderOptions};
-use model_ir::shape::{Aabb, Shape, View};
 
 /// A ball of radius 0.5 centred at `C` resting above the floor `y <= 0`.
 struct BallOnFloor;

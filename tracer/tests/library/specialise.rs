@@ -11,14 +11,14 @@ use arith_hull::Hull;
 use arith_ia::Interval;
 use arith_revaa::RevAa;
 use glam::DVec3;
-use proptest::prelude::*;
 use model_ir::arith::ArithKind;
 use model_ir::camera::Camera;
+use model_ir::shape::{Aabb, View};
 use model_sources::formula::{parse, Tape, ToFormula, MIN_SPECIALISE_LEN};
 use model_sources::{Model, PaperModel};
+use proptest::prelude::*;
 use tracer::render::{render_kind, RenderOptions};
 use tracer::search::ray::clip;
-use model_ir::shape::{Aabb, View};
 
 /// Leaves: balls, slabs and the coordinates, so that ranges over small boxes decide.
 fn leaf() -> impl Strategy<Value = String> {
