@@ -9,7 +9,7 @@ use glam::DVec3;
 use model_ir::arith::ArithKind;
 use model_ir::camera::Camera;
 use model_ir::shape::{Aabb, Shape, View};
-use model_sources::{self, format, from_text, Model};
+use model_sources::{format, from_text, Model};
 use proptest::prelude::*;
 use tracer::render::{render_kind, RenderOptions};
 
@@ -232,29 +232,31 @@ fn errors_name_the_file_line_and_column() {
     let dir = std::env::temp_dir();
     let missing = dir.join("no-such-model-file.expr");
     let missing = missing.to_str().unwrap();
-    let e = models::load("MODEL", missing, None, None).unwrap_err();
+    let e = model_sources::load("MODEL", missing, None, None).unwrap_err();
     assert!(
         e.starts_with(&format!("MODEL '{missing}': cannot read the file")),
         "{e}"
     );
-    let e = models::load("--models", "foo.txt", None, None).unwrap_err();
+    let e = model_sources::load("--models", "foo.txt", None, None).unwrap_err();
     assert!(e.contains("--format expr|vm|hf"), "{e}");
-    let e = models::load("MODEL", "nonesuch", None, None).unwrap_err();
+    let e = model_sources::load("MODEL", "nonesuch", None, None).unwrap_err();
     assert!(
         e.contains("unknown model 'nonesuch'") && e.contains(".vm"),
         "{e}"
     );
     let d = dir.to_str().unwrap();
-    let e = models::load("MODEL", d, Some(format("expr").unwrap()), None).unwrap_err();
+    let e = model_sources::load("MODEL", d, Some(format("expr").unwrap()), None).unwrap_err();
     assert!(e.contains("is a folder"), "{e}");
     // A built-in name wins, and a file loads by its extension.
     assert_eq!(
-        models::load("MODEL", "csg", None, None).unwrap().name,
+        model_sources::load("MODEL", "csg", None, None)
+            .unwrap()
+            .name,
         "csg"
     );
     let p = dir.join(format!("tracer-model-files-{}.vm", std::process::id()));
     std::fs::write(&p, VM).unwrap();
-    let m = models::load("MODEL", p.to_str().unwrap(), None, None).unwrap();
+    let m = model_sources::load("MODEL", p.to_str().unwrap(), None, None).unwrap();
     assert_eq!(m.eval(0.0, 0.0, -0.5), Notched.eval(0.0, 0.0, -0.5));
     assert!(m.name.starts_with("tracer-model-files-"));
     let _ = std::fs::remove_file(&p);
@@ -268,7 +270,7 @@ fn errors_name_the_file_line_and_column() {
 fn builtin_formulas_give_the_builtins_values() {
     let mut rng = model_sources::noise::SplitMix64(11);
     let mut n = 0;
-    for m in models::all() {
+    for m in model_sources::all() {
         let Some(text) = m.shape.formula() else {
             // Noise has no formula text.
             assert!(
@@ -279,7 +281,7 @@ fn builtin_formulas_give_the_builtins_values() {
             continue;
         };
         n += 1;
-        let t = models::formula::parse(&text)
+        let t = model_sources::formula::parse(&text)
             .unwrap_or_else(|e| panic!("{}: {}", m.name, e.render(&text)));
         let d = m.domain;
         for _ in 0..2000 {

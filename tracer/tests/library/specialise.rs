@@ -5,12 +5,12 @@
 //! depths within the precision) and, on every Appendix A model written as a formula, in
 //! their hit masks.
 
-use arith_aa::Aa;
 use arith_core::Range;
-use arith_hull::Hull;
 use arith_ia::Interval;
 use arith_revaa::RevAa;
 use glam::DVec3;
+use model_ir::arith::arith_aa::Aa;
+use model_ir::arith::arith_hull::Hull;
 use model_ir::arith::ArithKind;
 use model_ir::camera::Camera;
 use model_ir::shape::{Aabb, View};
