@@ -72,7 +72,7 @@ if [ -n "$FROM_RAW" ]; then
     [ -f "$FROM_RAW" ] || die "FROM_RAW '$FROM_RAW' not found"
     cp "$FROM_RAW" "$raw"
 else
-    [ -x "$TRACER" ] || die "TRACER '$TRACER' is not an executable (build it: cargo build --release -p tracer)"
+    [ -x "$TRACER" ] || die "TRACER '$TRACER' is not an executable (build it: cargo build --release -p tracer-cli)"
     is_size "$SIZE" || die "SIZE '$SIZE' is not WxH"
     is_size "$PROBE_SIZE" || die "PROBE_SIZE '$PROBE_SIZE' is not WxH"
     is_n "$VM_SIZE" || die "VM_SIZE '$VM_SIZE' is not a whole number above 0"

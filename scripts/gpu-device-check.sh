@@ -9,7 +9,7 @@ out="${1:-gpu-device-check.txt}"
     echo "== $(date -u) $(uname -a)"
     command -v nvidia-smi >/dev/null && nvidia-smi --query-gpu=name,driver_version --format=csv
     echo "== build"
-    time cargo build --release -p tracer --features gpu -p bench-suite --features bench-suite/gpu
+    time cargo build --release -p tracer-cli --features gpu -p bench-suite --features bench-suite/gpu
     echo "== GPU tests"
     time cargo test --release -p tracer-gpu
     echo "== table2"

@@ -1,10 +1,12 @@
 #!/usr/bin/env python3
 """Lists import cycles between the source files of each workspace crate.
 
-A file imports another when it names a path into it: `crate::a::b`, `super::x` or
-`self::x` (in `use` lines and inline paths alike; doc comments and `#[cfg(test)]`
-modules are skipped, since tests may reach anywhere). A module's `mod.rs` and its
-children count as distinct files; a parent declaring `mod child;` is not an import.
+A file imports another when it names a path into it: `crate::a::b`, `super::x`,
+`self::x`, or `child::x` for a module `child` the file declares (`mod child;`), in
+`use` items (brace groups `use super::{a::b, c}` included) and inline paths alike; doc
+comments and `#[cfg(test)]` modules are skipped, since tests may reach anywhere. A
+module's `mod.rs` and its children count as distinct files; a parent declaring
+`mod child;` is not an import.
 Prints each cycle found and exits 1 if there is one, 0 otherwise.
 
     python3 scripts/import-cycles.py [CRATE_DIR ...]   # default: every crate with src/
@@ -13,7 +15,45 @@ import os
 import re
 import sys
 
-PATH = re.compile(r"\b(crate|super|self)((?:::[A-Za-z_][A-Za-z0-9_]*)+)")
+PATH = re.compile(r"(?<![$\w:])(crate|super|self)((?:::[A-Za-z_][A-Za-z0-9_]*)+)")
+MOD = re.compile(r"^\s*(?:pub(?:\([^)]*\))?\s+)?mod\s+([A-Za-z_][A-Za-z0-9_]*)\s*;")
+USE = re.compile(r"\buse\s+([^;]*);", re.S)
+
+
+def use_paths(tree):
+    """The paths of a use tree: `a::{b::c, d as e, self}` -> a::b::c, a::d, a."""
+    tree = re.sub(r"\s+", "", tree)
+    tree = re.sub(r"\bas\b\w+", "", tree)
+    depth, start = 0, None
+    for i, c in enumerate(tree):
+        if c == "{":
+            if depth == 0:
+                start = i
+            depth += 1
+        elif c == "}":
+            depth -= 1
+            if depth == 0:
+                prefix = tree[:start]
+                inner, rest = tree[start + 1 : i], tree[i + 1 :]
+                out, parts, depth2, last = [], [], 0, 0
+                for j, d in enumerate(inner):
+                    if d == "{":
+                        depth2 += 1
+                    elif d == "}":
+                        depth2 -= 1
+                    elif d == "," and depth2 == 0:
+                        parts.append(inner[last:j])
+                        last = j + 1
+                parts.append(inner[last:])
+                for part in parts:
+                    if not part:
+                        continue
+                    if part == "self":
+                        out.append(prefix.rstrip(":"))
+                    else:
+                        out.extend(use_paths(prefix + part + rest))
+                return out
+    return [tree]
 
 
 def modules(src):
@@ -25,7 +65,8 @@ def modules(src):
                 continue
             full = os.path.join(root, f)
             rel = os.path.relpath(full, src)[:-3].split(os.sep)
-            if rel[-1] in ("mod", "lib", "main"):
+            # `mod.rs` names its folder's module; `lib.rs` and `main.rs` only at the root.
+            if rel[-1] == "mod" or (len(rel) == 1 and rel[0] in ("lib", "main")):
                 rel = rel[:-1]
             if rel and rel[0] == "bin":
                 continue
@@ -62,22 +103,38 @@ def graph(src):
     edges = {m: set() for m in mods}
     for m, f in mods.items():
         # A mod.rs's `super` is its parent; a leaf file's `super` is its parent too.
-        for line in code_lines(f):
-            if re.match(r"\s*(pub(\([^)]*\))?\s+)?mod\s", line):
-                continue
-            for kind, rest in PATH.findall(line):
-                parts = [p for p in rest.split("::") if p]
-                if kind == "super":
-                    # `super::super::x`
-                    here = m
-                    while parts and parts[0] == "super":
-                        here = here[:-1]
-                        parts = parts[1:]
-                    t = resolve(mods, here, "super", parts)
-                else:
-                    t = resolve(mods, m, kind, parts)
-                if t is not None and t != m and not m[: len(t)] == t:
-                    edges[m].add(t)
+        lines = code_lines(f)
+        children = {mm.group(1) for line in lines for mm in [MOD.match(line)] if mm}
+        child_path = (
+            re.compile(r"(?<![$\w:])(" + "|".join(sorted(children)) + r")((?:::[A-Za-z_][A-Za-z0-9_]*)+)")
+            if children
+            else None
+        )
+        text = "".join(l for l in lines if not MOD.match(l))
+        found = []
+        for tree in USE.findall(text):
+            for path in use_paths(tree):
+                segs = [p for p in path.split("::") if p]
+                if len(segs) >= 2 and segs[0] in ("crate", "super", "self"):
+                    found.append((segs[0], "::" + "::".join(segs[1:])))
+                elif len(segs) >= 1 and segs[0] in children:
+                    found.append(("self", "::" + "::".join(segs)))
+        found += PATH.findall(text)
+        if child_path:
+            found += [("self", "::" + c + rest) for c, rest in child_path.findall(text)]
+        for kind, rest in found:
+            parts = [p for p in rest.split("::") if p]
+            if kind == "super":
+                # `super::super::x`
+                here = m
+                while parts and parts[0] == "super":
+                    here = here[:-1]
+                    parts = parts[1:]
+                t = resolve(mods, here, "super", parts)
+            else:
+                t = resolve(mods, m, kind, parts)
+            if t is not None and t != m and not m[: len(t)] == t:
+                edges[m].add(t)
     return edges
 
 

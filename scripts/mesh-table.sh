@@ -17,7 +17,7 @@ tracer="${TRACER:-target/release/tracer}"
 ariths="${ARITHS:-revaa}"
 timeout_s="${TIMEOUT:-60}"
 if [ ! -x "$tracer" ]; then
-    cargo build --release -p tracer || exit 1
+    cargo build --release -p tracer-cli || exit 1
 fi
 models=("$@")
 if [ ${#models[@]} -eq 0 ]; then

@@ -80,7 +80,7 @@ echo "building fidget-peer and tracer (release)..." >&2
 # The peer's own target dir, whatever CARGO_TARGET_DIR says (it is not our workspace).
 CARGO_TARGET_DIR=bench-suite/peers/fidget/target \
     nice -n 10 cargo build --release -q --manifest-path bench-suite/peers/fidget/Cargo.toml
-nice -n 10 cargo build --release -q -p tracer --bin tracer
+nice -n 10 cargo build --release -q -p tracer-cli --bin tracer
 PEER=bench-suite/peers/fidget/target/release/fidget-peer
 TRACER=$TARGET/release/tracer
 mkdir -p "$OUT_DIR"

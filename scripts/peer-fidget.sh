@@ -55,7 +55,7 @@ echo "building fidget-peer and tracer (release)..." >&2
 # workspace); our tracer where CARGO_TARGET_DIR (default target/) puts it.
 CARGO_TARGET_DIR=bench-suite/peers/fidget/target \
     nice -n 10 cargo build --release -q --manifest-path bench-suite/peers/fidget/Cargo.toml
-nice -n 10 cargo build --release -q -p tracer --bin tracer
+nice -n 10 cargo build --release -q -p tracer-cli --bin tracer
 PEER=bench-suite/peers/fidget/target/release/fidget-peer
 TRACER=${CARGO_TARGET_DIR:-target}/release/tracer
 mkdir -p "$OUT_DIR"

@@ -1,18 +1,21 @@
 #!/usr/bin/env bash
 # Prints one line per (model, arithmetic, mode) with the SHA-256 of the image, the depth
-# map and the counters (wall times removed) of a small render, and of headless previews
-# (global and local Lipschitz bounds). Two runs of this script on two commits must print
-# the same lines when a change claims "same images, depth maps and counters":
+# map and the counters (wall times removed) of a small render, of headless previews
+# (global and local Lipschitz bounds), and of meshes (the mesh file and its counters).
+# Two runs of this script on two commits must print the same lines when a change claims
+# "same images, depth maps, meshes and counters":
 #   scripts/same-outputs.sh > before.txt; (change); scripts/same-outputs.sh > after.txt
 #   diff before.txt after.txt
-# TRACER=path/to/tracer skips the build; SIZE=WxH sets the render size (default 96x72).
+# TRACER=path/to/tracer skips the build; SIZE=WxH sets the render size (default 96x72);
+# DEPTH=N the meshes' depth (default 4).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if [ -z "${TRACER:-}" ]; then
-    cargo build --release -q -p tracer --bin tracer
+    cargo build --release -q -p tracer-cli --bin tracer
     TRACER=target/release/tracer
 fi
 size=${SIZE:-96x72}
+depth=${DEPTH:-4}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 h() { sha256sum "$1" | cut -c1-16; }
@@ -41,6 +44,18 @@ for m in $models; do
             echo "preview $m $bound png=$(h "$tmp/p.png") stats=$(h "$tmp/c.txt")"
         else
             echo "preview $m $bound refused: $(head -c 80 "$tmp/e.txt")"
+        fi
+    done
+done
+# The mesher: every model in two arithmetics, the counters as JSON without wall times.
+for m in $models; do
+    for a in ia revaa; do
+        if "$TRACER" mesh "$m" --arith "$a" --depth "$depth" --quiet --stats json \
+            --out "$tmp/m.ply" > "$tmp/s.txt" 2> "$tmp/e.txt"; then
+            sed -E 's/"wall_s": [0-9.e-]+, //' "$tmp/s.txt" > "$tmp/c.txt"
+            echo "mesh $m $a ply=$(h "$tmp/m.ply") stats=$(h "$tmp/c.txt")"
+        else
+            echo "mesh $m $a refused: $(head -c 80 "$tmp/e.txt")"
         fi
     done
 done

@@ -41,7 +41,7 @@ for m in $MODELS; do
 done
 
 echo "building tracer (release)..." >&2
-nice -n 10 cargo build --release -q -p tracer --bin tracer
+nice -n 10 cargo build --release -q -p tracer-cli --bin tracer
 TRACER=${CARGO_TARGET_DIR:-target}/release/tracer
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT

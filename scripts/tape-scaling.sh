@@ -34,7 +34,7 @@ case "$ARITH" in auto|ia|aa|raa|revaa|hull) ;;
 esac
 
 echo "building tracer (release)..." >&2
-nice -n 10 cargo build --release -q -p tracer --bin tracer
+nice -n 10 cargo build --release -q -p tracer-cli --bin tracer
 TRACER=${CARGO_TARGET_DIR:-target}/release/tracer
 python3 scripts/gen-vm-scenes.py "$GEN_DIR" --kinds balls --n "${NS// /,}" --seed "$SEED" > /dev/null
 tmp=$(mktemp -d)

@@ -7,9 +7,9 @@
 
 use arith_core::{Arithmetic, Range, Real};
 use criterion::{criterion_group, criterion_main, Criterion};
+use model_ir::arith::ArithKind;
 use std::hint::black_box;
 use std::time::Duration;
-use tracer::arith::ArithKind;
 
 type Op<R> = (&'static str, fn(&R, &R) -> R);
 
@@ -63,7 +63,7 @@ fn bench_arith<A: Arithmetic>(c: &mut Criterion) {
 
 fn all(c: &mut Criterion) {
     for kind in ArithKind::ALL {
-        tracer::with_arith!(kind, A => bench_arith::<A>(c));
+        model_ir::with_arith!(kind, A => bench_arith::<A>(c));
     }
 }
 

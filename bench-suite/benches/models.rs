@@ -7,15 +7,15 @@
 
 use arith_core::{Arithmetic, Range};
 use criterion::{criterion_group, criterion_main, Criterion};
+use model_ir::arith::ArithKind;
+use model_ir::camera::Camera;
+use model_ir::shape::Shape;
+use model_sources::Model;
+use model_sources::PaperModel;
 use std::hint::black_box;
 use std::time::Duration;
-use tracer::arith::ArithKind;
-use tracer::camera::Camera;
-use tracer::models::Model;
-use tracer::models::PaperModel;
 use tracer::render::RenderOptions;
 use tracer::search::ray::{clip, first_root, RayParams, RayStats, Start};
-use tracer::shape::Shape;
 
 fn cell_of(m: &Model) -> [(f64, f64); 3] {
     let (lo, hi) = (m.domain.min.to_array(), m.domain.max.to_array());
@@ -40,7 +40,7 @@ fn range_eval(c: &mut Criterion) {
         let mut g = c.benchmark_group(format!("cell-eval/{}", m.name));
         for kind in ArithKind::ALL {
             g.bench_function(kind.name(), |b| {
-                b.iter(|| tracer::with_arith!(kind, A => eval_cell::<A>(black_box(&pm), black_box(&cell))))
+                b.iter(|| model_ir::with_arith!(kind, A => eval_cell::<A>(black_box(&pm), black_box(&cell))))
             });
         }
         g.finish();
@@ -67,7 +67,7 @@ fn one_ray(c: &mut Criterion) {
             g.bench_function(kind.name(), |b| {
                 b.iter(|| {
                     let mut st = RayStats::default();
-                    tracer::with_arith!(kind, A => first_root::<A, PaperModel>(
+                    model_ir::with_arith!(kind, A => first_root::<A, PaperModel>(
                         black_box(&pm), o, d, Start::whole(t0, t1), &params, &mut st
                     ))
                 })

@@ -12,10 +12,10 @@
 use arith_core::pack::{Pack, LANES};
 use arith_core::{Arithmetic, Range};
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use model_ir::arith::ArithKind;
+use model_sources::formula::Tape;
 use std::hint::black_box;
 use std::time::Duration;
-use tracer::arith::ArithKind;
-use tracer::models::formula::Tape;
 use tracer::search::ray::ray_inputs;
 
 /// Ray segments per batch.
@@ -24,7 +24,7 @@ const SEGMENTS: usize = 64;
 fn bear() -> Tape {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/peers/fidget/models/bear.vm");
     let text = std::fs::read_to_string(path).expect("the bear model");
-    tracer::models::vm::parse(&text).expect("the bear as a tape")
+    model_sources::vm::parse(&text).expect("the bear as a tape")
 }
 
 /// Short segments of rays from a ring of eyes through the middle of the bear's box.
@@ -95,7 +95,7 @@ fn all(c: &mut Criterion) {
             // Full affine arithmetic has no fixed-size form to batch.
             continue;
         }
-        tracer::with_arith!(kind, A => bench_arith::<A>(c, &t));
+        model_ir::with_arith!(kind, A => bench_arith::<A>(c, &t));
     }
 }
 

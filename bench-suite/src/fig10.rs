@@ -102,7 +102,7 @@ fn outline(img: &mut image::RgbImage, r: Rect) {
 /// Runs Fig. 10 and writes `fig10.png` (the three frames, top to bottom, the region
 /// outlined in white as in the paper) and `fig10.md`.
 pub fn run(o: &Options10) -> Result<(Times10, String), String> {
-    let m = tracer::models::find("landscape")?;
+    let m = model_sources::find("landscape")?;
     let lambda = m
         .lipschitz
         .ok_or("the landscape model has no Lipschitz bound")?;

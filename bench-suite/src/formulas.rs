@@ -19,9 +19,9 @@
 //! share wider by more than 1% of the reference's width is printed beside it.
 
 use arith_core::{Arithmetic, Range};
-use tracer::arith::ArithKind;
-use tracer::models::formula::{self, Tape};
-use tracer::models::noise::SplitMix64 as Rng;
+use model_ir::arith::ArithKind;
+use model_sources::formula::{self, Tape};
+use model_sources::noise::SplitMix64 as Rng;
 
 /// Settings of the study.
 #[derive(Clone, Copy, Debug)]
@@ -160,10 +160,10 @@ pub fn study(kinds: &[ArithKind], s: &Settings) -> (Vec<(ArithKind, Shares)>, Ve
             continue;
         };
         made += 1;
-        let ia = tracer::with_arith!(ArithKind::Ia, A => range_of::<A>(&tape, &b));
-        let rev = tracer::with_arith!(ArithKind::Revaa, A => range_of::<A>(&tape, &b));
+        let ia = model_ir::with_arith!(ArithKind::Ia, A => range_of::<A>(&tape, &b));
+        let rev = model_ir::with_arith!(ArithKind::Revaa, A => range_of::<A>(&tape, &b));
         for (k, (kind, sh)) in kinds.iter().zip(&mut shares).enumerate() {
-            let r = tracer::with_arith!(*kind, A => range_of::<A>(&tape, &b));
+            let r = model_ir::with_arith!(*kind, A => range_of::<A>(&tape, &b));
             sh.formulas += 1;
             let (wi, wr) = (wider(r, ia), wider(r, rev));
             sh.wider_than_ia += usize::from(wi);

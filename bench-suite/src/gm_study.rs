@@ -8,8 +8,8 @@
 //! A bound below the Lipschitz constant over the domain (about 867, at its corners) is
 //! not guaranteed over the whole box; those rows only measure what the counts would be.
 
+use model_sources::Model;
 use std::fmt::Write as _;
-use tracer::models::Model;
 use tracer::progressive::{raycast, Bound, Caster, Engine, Options};
 use tracer::search::lipschitz::DEFAULT_OVERSHOOT;
 

@@ -5,7 +5,8 @@
 //! - [`chart`]: the log-scale bar chart.
 //! - [`table1`]: the paper's Table 1 regenerated.
 //! - [`tightness`]: computed range width over sampled true width.
-//! - [`progressive`]: the progressive-refinement paper's Table 1 and Fig. 9.
+//! - [`gm_table1`]: the progressive-refinement paper's Table 1 and Fig. 9, over the
+//!   previewer's benchmark rows ([`gm_rows`]).
 //! - [`formulas`]: random formulas over random boxes, each arithmetic against intervals
 //!   and revised affine forms.
 //! - [`gm_study`]: why our Mitchell counts differ from the paper's, one factor at a time.
@@ -21,9 +22,10 @@ pub mod chart;
 pub mod counter;
 pub mod fig10;
 pub mod formulas;
+pub mod gm_rows;
 pub mod gm_study;
+pub mod gm_table1;
 pub mod paper;
-pub mod progressive;
 pub mod scaling;
 pub mod scenes;
 pub mod table1;

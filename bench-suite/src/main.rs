@@ -12,12 +12,12 @@
 //!                     [--paper-pixels N] [--rounds N] [--budget SECONDS] [--out DIR]
 //! ```
 
-use bench_suite::{fig10, formulas, gm_study, progressive, scaling, scenes, table1, tightness};
+use bench_suite::{fig10, formulas, gm_study, gm_table1, scaling, scenes, table1, tightness};
 use clap::{Parser, Subcommand};
+use model_sources::PaperModel;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Duration;
-use tracer::models::PaperModel;
 
 #[derive(Parser)]
 #[command(
@@ -112,13 +112,13 @@ enum Cmd {
     /// time and point evaluations) and Fig. 9 (hypertexture with L = 1..5) as a bar chart.
     Progressive {
         /// Image width and height in pixels.
-        #[arg(long, default_value_t = progressive::DEFAULT_SIZE)]
+        #[arg(long, default_value_t = gm_table1::DEFAULT_SIZE)]
         size: u32,
         /// Comma-separated model names (default: mitchell-gm,blobby,hypertexture-1).
         #[arg(long)]
         models: Option<String>,
         /// Fig. 9 runs the hypertexture with L = 1..=LAYERS (0: skip Fig. 9).
-        #[arg(long, default_value_t = progressive::FIG9_LAYERS)]
+        #[arg(long, default_value_t = gm_table1::FIG9_LAYERS)]
         layers: u32,
         /// Timing rounds: every method once per round, in turn (rows keep the median).
         #[arg(long, default_value_t = 1)]
@@ -133,10 +133,10 @@ enum Cmd {
     /// hypertexture with L = 1..LAYERS noise layers, per method, as bar charts.
     Fig9 {
         /// Image width and height in pixels.
-        #[arg(long, default_value_t = progressive::DEFAULT_SIZE)]
+        #[arg(long, default_value_t = gm_table1::DEFAULT_SIZE)]
         size: u32,
         /// L = 1..=LAYERS.
-        #[arg(long, default_value_t = progressive::FIG9_LAYERS)]
+        #[arg(long, default_value_t = gm_table1::FIG9_LAYERS)]
         layers: u32,
         /// Timing rounds: every method once per round, in turn (rows keep the median).
         #[arg(long, default_value_t = 1)]
@@ -261,9 +261,9 @@ fn run(cli: Cli) -> Result<(), String> {
             o.culling = culling;
             o.verbose = true;
             // Ctrl-C: stop, mark the unmeasured cells, write what was measured, exit 130.
-            o.cancel = Some(tracer::interrupt::cancel_flag());
+            o.cancel = Some(tracer_kit::interrupt::cancel_flag());
             let report = table1::run(&o)?;
-            tracer::out!("{}", table1::markdown(&report));
+            tracer_kit::out!("{}", table1::markdown(&report));
             eprintln!(
                 "wrote {}/table1.md, table1.csv, table1.png and the images",
                 o.out.display()
@@ -283,7 +283,7 @@ fn run(cli: Cli) -> Result<(), String> {
         } => {
             let kinds = match arith {
                 Some(a) => table1::parse_kinds(&a)?,
-                None => tracer::arith::ArithKind::ALL.to_vec(),
+                None => model_ir::arith::ArithKind::ALL.to_vec(),
             };
             if n == 0 {
                 return Err("--formulas must be at least 1".into());
@@ -295,7 +295,7 @@ fn run(cli: Cli) -> Result<(), String> {
             };
             let (rows, examples) = formulas::study(&kinds, &s);
             let md = formulas::report(&rows, &examples, &s);
-            tracer::out!("{md}");
+            tracer_kit::out!("{md}");
             write_out(&out, "formulas.md", &md)
         }
         Cmd::Tightness {
@@ -310,7 +310,7 @@ fn run(cli: Cli) -> Result<(), String> {
             };
             let kinds = match arith {
                 Some(a) => table1::parse_kinds(&a)?,
-                None => tracer::arith::ArithKind::ALL.to_vec(),
+                None => model_ir::arith::ArithKind::ALL.to_vec(),
             };
             if samples == 0 {
                 return Err("--samples must be at least 1".into());
@@ -321,7 +321,7 @@ fn run(cli: Cli) -> Result<(), String> {
             };
             let models: Vec<_> = ms.iter().map(|m| m.model()).collect();
             let md = tightness::run(&models, &kinds, &s);
-            tracer::out!("{md}");
+            tracer_kit::out!("{md}");
             write_out(&out, "tightness.md", &md)
         }
         Cmd::Scaling {
@@ -344,7 +344,7 @@ fn run(cli: Cli) -> Result<(), String> {
             o.kind = arith.parse()?;
             let pts = scaling::measure(&o)?;
             let md = scaling::markdown(&o, &pts);
-            tracer::out!("{md}");
+            tracer_kit::out!("{md}");
             write_out(&out, "scaling.md", &md)
         }
         Cmd::Table2 {
@@ -402,7 +402,7 @@ fn run(cli: Cli) -> Result<(), String> {
                 eprintln!("{}: {:.3} s off, {:.3} s on", p.name, p.secs[0], p.secs[1])
             })?;
             let md = scenes::markdown(&o, &pts);
-            tracer::out!("{md}");
+            tracer_kit::out!("{md}");
             write_out(&out, "scenes.md", &md)
         }
         Cmd::Progressive {
@@ -413,19 +413,19 @@ fn run(cli: Cli) -> Result<(), String> {
             methods,
             out,
         } => {
-            let mut o = progressive::Options::new(out);
+            let mut o = gm_table1::Options::new(out);
             o.size = size;
             o.rounds = rounds;
             if let Some(m) = methods {
-                o.methods = progressive::parse_methods(&m)?;
+                o.methods = gm_table1::parse_methods(&m)?;
             }
             if let Some(m) = models {
-                o.models = progressive::parse_models(&m)?;
+                o.models = gm_table1::parse_models(&m)?;
             }
             o.layers = layers;
             o.verbose = true;
-            let report = progressive::run(&o)?;
-            tracer::out!("{}", progressive::markdown(&report));
+            let report = gm_table1::run(&o)?;
+            tracer_kit::out!("{}", gm_table1::markdown(&report));
             eprintln!(
                 "wrote {}/progressive.md, progressive.csv{}",
                 o.out.display(),
@@ -435,7 +435,7 @@ fn run(cli: Cli) -> Result<(), String> {
                     ", fig9.csv, fig9.png, fig9-evals.png"
                 }
             );
-            for line in progressive::goal_lines(&report) {
+            for line in gm_table1::goal_lines(&report) {
                 if line.starts_with("!!!") {
                     eprintln!("{line}");
                 }
@@ -449,18 +449,18 @@ fn run(cli: Cli) -> Result<(), String> {
             methods,
             out,
         } => {
-            let mut o = progressive::Options::new(out);
+            let mut o = gm_table1::Options::new(out);
             o.size = size;
             o.models = Vec::new();
             o.layers = layers.max(1);
             o.rounds = rounds;
             o.verbose = true;
             o.methods = match methods {
-                Some(m) => progressive::parse_methods(&m)?,
-                None => progressive::fig9_default_methods(),
+                Some(m) => gm_table1::parse_methods(&m)?,
+                None => gm_table1::fig9_default_methods(),
             };
-            let report = progressive::run(&o)?;
-            tracer::out!("{}", progressive::markdown(&report));
+            let report = gm_table1::run(&o)?;
+            tracer_kit::out!("{}", gm_table1::markdown(&report));
             eprintln!(
                 "wrote {}/fig9.md, fig9.csv, fig9.png, fig9-evals.png",
                 o.out.display()
@@ -468,10 +468,10 @@ fn run(cli: Cli) -> Result<(), String> {
             Ok(())
         }
         Cmd::GmStudy { size, out } => {
-            let m = tracer::models::find("mitchell-gm")?;
+            let m = model_sources::find("mitchell-gm")?;
             let rows = gm_study::run(&m, size)?;
             let md = gm_study::markdown(&rows, size);
-            tracer::out!("{md}");
+            tracer_kit::out!("{md}");
             write_out(&out, "gm-study.md", &md)
         }
         Cmd::Fig10 {
@@ -486,7 +486,7 @@ fn run(cli: Cli) -> Result<(), String> {
             o.roi = fig10::parse_roi(&roi, w, h)?;
             o.roi_level = roi_level;
             let (_, md) = fig10::run(&o)?;
-            tracer::out!("{md}");
+            tracer_kit::out!("{md}");
             eprintln!("wrote {}/fig10.png, fig10.md", o.out.display());
             Ok(())
         }
@@ -508,7 +508,7 @@ fn table2_cmd(
     if frames == 0 {
         return Err("--frames must be at least 1".into());
     }
-    let gpu = tracer::gpu::tracer_gpu::Gpu::new()?;
+    let gpu = tracer_gpu::Gpu::new()?;
     let mut rows = table2::run(&gpu, &models, (512, 512), frames)?;
     if hd {
         rows.extend(table2::run(&gpu, &models, (1920, 1080), frames)?);
@@ -522,7 +522,7 @@ fn table2_cmd(
         gpu.name()
     };
     let md = table2::markdown(&label, &rows);
-    tracer::out!("{md}");
+    tracer_kit::out!("{md}");
     write_out(out, "table2.md", &md)
 }
 
@@ -533,7 +533,9 @@ fn table2_cmd(_: Option<String>, _: usize, _: bool, _: &PathBuf) -> Result<(), S
 
 fn main() -> ExitCode {
     match run(Cli::parse()) {
-        Ok(()) if tracer::interrupt::requested() => ExitCode::from(tracer::interrupt::exit_code()),
+        Ok(()) if tracer_kit::interrupt::requested() => {
+            ExitCode::from(tracer_kit::interrupt::exit_code())
+        }
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e}");

@@ -28,7 +28,7 @@ pub const PAPER_COLUMNS: [&str; 4] = ["ia", "aa", "raa", "revaa"];
 impl PaperRow {
     /// The paper's seconds for arithmetic `k`; `None` for an arithmetic the paper has no
     /// column for, or where it only says `>50000`.
-    pub fn seconds_of(&self, k: tracer::arith::ArithKind) -> Option<f64> {
+    pub fn seconds_of(&self, k: model_ir::arith::ArithKind) -> Option<f64> {
         let i = PAPER_COLUMNS.iter().position(|&n| n == k.name())?;
         self.seconds[i]
     }
@@ -44,7 +44,7 @@ const fn ops(all: u64, non_affine: u64, mul: u64) -> OpCounts {
 
 /// The paper's rows, in its order, with the readings of two rows "as printed" (the
 /// paper's figures beside our literal transcriptions of its Appendix A text). Virtual
-/// Shikki is our HyperFun transcription of the scene (`models/shikki.hf`).
+/// Shikki is our HyperFun transcription of the scene (`model-sources/data/shikki.hf`).
 pub const TABLE1: &[PaperRow] = &[
     PaperRow {
         label: "Mitchell",

@@ -7,10 +7,10 @@
 //! of empty pixels, so its share grows with resolution.
 
 use crate::table1::{render_once, resolution};
+use model_ir::arith::ArithKind;
+use model_sources::PaperModel;
 use std::fmt::Write as _;
 use std::time::Duration;
-use tracer::arith::ArithKind;
-use tracer::models::PaperModel;
 
 /// What to run.
 #[derive(Clone, Debug)]

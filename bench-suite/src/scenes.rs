@@ -1,5 +1,5 @@
 //! `bench-suite scenes`: cost against model size, with and without region
-//! specialisation ([`tracer::models::formula::Tape::specialise`]).
+//! specialisation ([`model_sources::formula::Tape::specialise`]).
 //!
 //! A scene is `N` balls scattered in `[-1, 1]^3` (seeded), joined by `max` or by the
 //! R-function union `|` in a balanced tree, as a formula tape. The balls' radii shrink as
@@ -11,13 +11,13 @@
 //! differs between on and off (must be 0). The Appendix A R-function models, as their
 //! formula tapes, follow.
 
+use model_ir::arith::ArithKind;
+use model_ir::shape::Aabb;
+use model_sources::noise::SplitMix64;
+use model_sources::{Model, PaperModel};
 use std::fmt::Write as _;
 use std::time::{Duration, Instant};
-use tracer::arith::ArithKind;
-use tracer::models::noise::SplitMix64;
-use tracer::models::{Model, PaperModel};
 use tracer::render::{render_kind, RenderOptions, RenderResult};
-use tracer::shape::Aabb;
 
 /// What to run.
 #[derive(Clone, Debug)]
@@ -139,7 +139,7 @@ pub struct Point {
 }
 
 fn measure_model(name: &str, model: &Model, side: u32, o: &Options) -> Result<Point, String> {
-    let tracer::models::AnyShape::Expr(tape) = &model.shape else {
+    let model_sources::AnyShape::Expr(tape) = &model.shape else {
         return Err(format!("{name}: not a tape"));
     };
     let mut times = [Vec::new(), Vec::new()];
@@ -223,7 +223,7 @@ pub fn run(o: &Options, mut progress: impl FnMut(&Point)) -> Result<Vec<Point>, 
                 model.view = base.view;
                 model
             }
-            None if matches!(base.shape, tracer::models::AnyShape::Expr(_)) => base,
+            None if matches!(base.shape, model_sources::AnyShape::Expr(_)) => base,
             None => continue,
         };
         let p = measure_model(m.name(), &model, o.paper_pixels, o)?;

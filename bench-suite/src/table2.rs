@@ -6,10 +6,10 @@
 //! in the paper's runs); the median of the frames is reported. The configurations are
 //! run round-robin, one frame each per round, so a drifting clock affects them alike.
 
+use model_sources::PaperModel;
 use std::time::Duration;
-use tracer::gpu::tracer_gpu::{Gpu, GpuArith, Tracer};
-use tracer::models::PaperModel;
 use tracer::render::RenderOptions;
+use tracer_gpu::{Gpu, GpuArith, Tracer};
 
 /// The paper's Table 2 (fps): IA, RAA, RevAA without culling, RevAA with culling.
 ///
@@ -63,7 +63,7 @@ pub fn run(
             for culling in [false, true] {
                 let mut opts = RenderOptions::new(&model, size.0, size.1);
                 opts.culling = culling;
-                let (frame, _) = tracer::gpu::frame(&opts)?;
+                let (frame, _) = tracer_gpu::render::frame(&opts)?;
                 let p = tracer.prepare(&frame)?;
                 tracer.run(&p)?; // warm-up (pipeline creation, first touch)
                 if !culling {

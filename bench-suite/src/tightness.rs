@@ -19,9 +19,9 @@
 //! are counted apart (`inf`) and left out of the mean.
 
 use arith_core::{Arithmetic, Range};
-use tracer::arith::ArithKind;
-use tracer::models::noise::SplitMix64 as Rng;
-use tracer::shape::{Aabb, Shape};
+use model_ir::arith::ArithKind;
+use model_ir::shape::{Aabb, Shape};
+use model_sources::noise::SplitMix64 as Rng;
 
 /// Sampling settings.
 #[derive(Clone, Copy, Debug)]
@@ -238,7 +238,8 @@ pub fn measure_model<S: Shape + ?Sized>(
                 cell_flat[si] += 1;
             } else {
                 for (k, &kind) in kinds.iter().enumerate() {
-                    let (lo, hi) = tracer::with_arith!(kind, A => cell_range::<A, S>(shape, &cell));
+                    let (lo, hi) =
+                        model_ir::with_arith!(kind, A => cell_range::<A, S>(shape, &cell));
                     let w = hi - lo;
                     if w.is_finite() {
                         cell_r[k][si].push(w / (thi - tlo));
@@ -254,7 +255,7 @@ pub fn measure_model<S: Shape + ?Sized>(
             } else {
                 for (k, &kind) in kinds.iter().enumerate() {
                     let (lo, hi) =
-                        tracer::with_arith!(kind, A => segment_range::<A, S>(shape, o, d, len));
+                        model_ir::with_arith!(kind, A => segment_range::<A, S>(shape, o, d, len));
                     let w = hi - lo;
                     if w.is_finite() {
                         seg_r[k][si].push(w / (thi - tlo));
@@ -305,7 +306,7 @@ fn fmt_ratio(r: &Ratio) -> String {
 }
 
 /// Runs the tightness study over `models` and renders it as Markdown.
-pub fn run(models: &[tracer::models::Model], kinds: &[ArithKind], s: &Settings) -> String {
+pub fn run(models: &[model_sources::Model], kinds: &[ArithKind], s: &Settings) -> String {
     let mut out = String::new();
     out.push_str("## Range tightness: computed width / sampled true width, mean (median)\n\n");
     out.push_str(&format!(

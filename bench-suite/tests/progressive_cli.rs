@@ -70,7 +70,7 @@ fn progressive_tiny_writes_every_file_with_positive_counts() {
     };
     // Two models, and L = 1, 2, each x every method (the range test once per arithmetic
     // of the one list).
-    let n = bench_suite::progressive::methods().len();
+    let n = bench_suite::gm_table1::methods().len();
     check("progressive.csv", 2 * n);
     check("fig9.csv", 2 * n);
     std::fs::remove_dir_all(&dir).ok();

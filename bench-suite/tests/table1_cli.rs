@@ -38,7 +38,7 @@ fn table1_tiny_writes_every_file_and_masks_agree() {
         assert!(len > 0, "{} missing or empty", p.display());
     }
     for m in ["mitchell", "sphere-noise"] {
-        for a in tracer::arith::ArithKind::ALL.map(|k| k.name()) {
+        for a in model_ir::arith::ArithKind::ALL.map(|k| k.name()) {
             let p = dir.join(format!("{m}-{a}.png"));
             let img = image::open(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
             assert!(img.width() > 0 && img.height() > 0);
@@ -59,7 +59,7 @@ fn table1_tiny_writes_every_file_and_masks_agree() {
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
     let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
-    assert_eq!(rows.len(), 2 * tracer::arith::ArithKind::COUNT);
+    assert_eq!(rows.len(), 2 * model_ir::arith::ArithKind::COUNT);
     for r in &rows {
         assert_eq!(r.len(), header.len());
         let who = format!("{} {}", r[col("model")], r[col("arith")]);

@@ -53,7 +53,7 @@ fn table1_interrupted_writes_the_tables() {
     let col = |name: &str| head.iter().position(|h| *h == name).unwrap();
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
     // Every model keeps its rows (one per arithmetic), measured or not.
-    let n = tracer::arith::ArithKind::COUNT;
+    let n = model_ir::arith::ArithKind::COUNT;
     assert_eq!(rows.len() % n, 0);
     assert!(rows.len() >= n);
     assert!(rows.iter().all(|r| r.len() == head.len()));

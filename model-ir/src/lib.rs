@@ -2,8 +2,8 @@
 //!
 //! A model `f(x, y, z)` (FRep: `f >= 0` inside, `f = 0` on the surface) as a **tape**:
 //! a flat list of SSA instructions ([`Instr`], [`Op`]), the last one's register the
-//! function's value. Every model source compiles into it (the tracer's formula, HyperFun
-//! and `.vm` readers through the [`Builder`]; generic Rust models by being evaluated
+//! function's value. Every model source compiles into it (the formula, HyperFun and `.vm`
+//! readers of `model-sources` through the [`Builder`]; generic Rust models by being evaluated
 //! over a [`Recorder`]), and every evaluator runs it: the interpreter here, over any
 //! [`arith_core::Real`] (points, every range arithmetic, dual numbers), and the GPU's
 //! generated WGSL (`tracer-gpu`). Nothing above this crate defines an instruction.
@@ -17,6 +17,17 @@
 //!   ([`Tape::specialise`], with its [proofs](specialise::proofs));
 //! - [`batch`] ([`Tape::eval_batch`]: one tape over many inputs per call);
 //! - [`record`] ([`Tape::record`]) and [`fuse`] ([`Tape::fuse_rfunctions`]).
+//!
+//! and, beside the tape, what every consumer of a model shares:
+//! - [`arith`]: the one list of arithmetics ([`arith::ArithKind`], [`with_arith!`]) that
+//!   every command, test and benchmark iterates over;
+//! - [`shape`]: the [`shape::Shape`] trait (a function written once over
+//!   [`arith_core::Real`]), its box ([`shape::Aabb`]) and a camera placement
+//!   ([`shape::View`]); [`tape_shape`]: the tape as a shape;
+//! - [`shape_batch`]: the ranges of many inputs of one shape per call, for the drivers
+//!   that run many searches in lock-step;
+//! - [`gradient_bound`]: Lipschitz bounds of a shape from the range of its gradient;
+//! - [`camera`]: views and the pixel rays of pinhole and orthographic cameras.
 //!
 //! ## Example: a model recorded, evaluated and specialised
 //!
@@ -42,19 +53,26 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod arith;
 pub mod batch;
 pub mod builder;
+pub mod camera;
 mod eval;
 pub mod fold;
 pub mod fuse;
+pub mod gradient_bound;
 pub mod instr;
 pub mod record;
+pub mod shape;
+pub mod shape_batch;
 pub mod specialise;
 pub mod tape;
+pub mod tape_shape;
 
 pub use arith_core;
 pub use builder::{Builder, Val};
 pub use fold::{Bin, EPS};
+pub use glam;
 pub use instr::{Instr, Op};
 pub use record::Recorder;
 pub use specialise::{CACHE_LIMIT, MIN_SPECIALISE_LEN};

@@ -6,7 +6,10 @@
 //! a compute pass, normals and depths ([`engine`]). The model comes as a tape of the
 //! model IR ([`Tape`]: the tracer's formulas compile into one, its generic models are
 //! recorded into one); the host prepares the rays in `f64`
-//! ([`Frame`]) and the crate rounds them outward to `f32` ([`convert`]).
+//! ([`Frame`]) and the crate rounds them outward to `f32` ([`convert`]). [`render`] is
+//! the renderer on top: a model's rays and cells prepared exactly as the CPU tracer's,
+//! the hits shaded as its are, a [`tracer::render::RenderResult`] out
+//! (`tracer render --device gpu`).
 //!
 //! # Soundness in `f32` on a GPU
 //!
@@ -99,6 +102,7 @@
 pub mod codegen;
 pub mod convert;
 pub mod engine;
+pub mod render;
 
 pub use engine::{Bundle, Cells, Frame, Gpu, Output, Prepared, Status, Tracer};
 pub use model_ir::Tape;

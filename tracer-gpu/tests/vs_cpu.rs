@@ -9,12 +9,12 @@ mod common;
 
 use arith_core::Real;
 use glam::DVec3;
-use tracer::arith::ArithKind;
-use tracer::camera::Camera;
-use tracer::models::formula::Tape;
+use model_ir::arith::ArithKind;
+use model_ir::camera::Camera;
+use model_ir::shape::{Aabb, Shape, View};
+use model_sources::formula::Tape;
 use tracer::render::{render_kind, RenderOptions};
 use tracer::search::ray::clip;
-use tracer::shape::{Aabb, Shape, View};
 use tracer_gpu::{GpuArith, Status, Tracer};
 
 const N: u32 = 64;
@@ -31,12 +31,12 @@ fn gpu_hits_every_pixel_the_cpu_proves_and_agrees_on_depth() {
     let Some(gpu) = common::gpu() else { return };
     let mut models: Vec<_> = ["mitchell", "bretzel", "csg"]
         .into_iter()
-        .map(|name| tracer::models::find(name).unwrap())
+        .map(|name| model_sources::find(name).unwrap())
         .collect();
     // Conditionals (a step, a select, an undecided hull across x = 0).
-    models.push(tracer::models::Model::formula(CONDITIONAL, None).unwrap());
+    models.push(model_sources::Model::formula(CONDITIONAL, None).unwrap());
     // The formula language's blends and R-functions, fused when converted.
-    models.push(tracer::models::Model::formula(BLENDS, None).unwrap());
+    models.push(model_sources::Model::formula(BLENDS, None).unwrap());
     for model in &models {
         let name = &model.name;
         let program = model.tape().unwrap();
@@ -45,7 +45,7 @@ fn gpu_hits_every_pixel_the_cpu_proves_and_agrees_on_depth() {
                 let mut opts = RenderOptions::new(model, N, N);
                 opts.culling = culling;
                 let cpu = render_kind(kind, &model.shape, &opts).unwrap();
-                let (frame, cam) = tracer::gpu::frame(&opts).unwrap();
+                let (frame, cam) = tracer_gpu::render::frame(&opts).unwrap();
                 let tracer =
                     Tracer::new(gpu, &program, GpuArith::from_name(kind.name()).unwrap()).unwrap();
                 let out = tracer.render(&frame).unwrap();
@@ -184,7 +184,7 @@ fn check<S: Shape>(
             let mut opts = RenderOptions::for_view(view, dom, N, N);
             opts.culling = culling;
             opts.pruning = pruning;
-            let (frame, _) = tracer::gpu::frame(&opts).unwrap();
+            let (frame, _) = tracer_gpu::render::frame(&opts).unwrap();
             let t = Tracer::new(gpu, &program, GpuArith::from_name(kind.name()).unwrap()).unwrap();
             let out = t.render(&frame).unwrap();
             let mut hits = 0;

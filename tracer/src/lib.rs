@@ -1,19 +1,17 @@
 //! # tracer: reliable ray casting of implicit surfaces, generic over [`arith_core::Range`]
 //!
-//! Layers, every import pointing down:
-//! - [`arith`]: the one list of arithmetics every command, test and bench iterates over;
-//! - [`shape`] and [`camera`]: the [`shape::Shape`] trait (a function written once,
-//!   generic over [`arith_core::Real`]), boxes, views and rays;
-//! - [`models`]: the model sources (the papers' models; the formula, HyperFun and `.vm`
-//!   readers, which compile into tapes of the model IR, [`model_ir`]) and their one
-//!   registry;
+//! The searches and the CPU renderers, over the model IR ([`model_ir`]: tapes, the
+//! [`shape::Shape`] trait, views and the one list of arithmetics [`arith`]) and the
+//! model sources ([`model_sources`]), using the kit below the renderers
+//! ([`tracer_kit`]: image output, filters, progress, Ctrl-C). Every import points down:
 //! - [`search`]: Algorithm 1 ([`search::ray`]), Algorithm 2 ([`search::cull`]), the
-//!   Lipschitz casters ([`search::lipschitz`]) and Lipschitz cone tracing
-//!   ([`search::cone`]);
-//! - renderers: the reliable tracer ([`render`], with shading and output files) and the
-//!   progressive previewer ([`progressive`], a queue of cones); the mesher ([`mesh`]:
-//!   an octree pruned by range arithmetic, dual contouring, OBJ/PLY/STL files);
-//! - the `tracer` binary (feature `cli`) on top; [`interrupt`] stops long work on Ctrl-C.
+//!   hand-over from culling to rays ([`search::tile_rays`]), the Lipschitz casters
+//!   ([`search::lipschitz`]) and Lipschitz cone tracing ([`search::cone`]);
+//! - [`render`]: the reliable tracer, tiles in parallel, with shading;
+//! - [`progressive`]: the progressive previewer, a queue of cones.
+//!
+//! The mesher (`tracer-mesh`), the GPU renderer (`tracer-gpu`) and the `tracer` command
+//! (`tracer-cli`) are crates of their own above this one.
 //!
 //! ## Example: render a model of your own
 //!
@@ -51,77 +49,35 @@
 //! let hits = image.depth.iter().filter(|d| d.is_finite()).count();
 //! assert!(hits > 0);
 //! let png = std::env::temp_dir().join("tracer-doc-torus.png");
-//! tracer::render::output::write_png(&png, 64, 48, &image.rgb)?;
+//! tracer::tracer_kit::output::write_png(&png, 64, 48, &image.rgb)?;
 //! # Ok::<(), String>(())
 //! ```
 
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
-pub mod arith;
-pub use arith::arith_core;
+pub mod progressive;
+pub mod render;
+pub mod search;
+
+// The layers below, re-exported so that a user of the tracer needs no other crate.
+#[doc(no_inline)]
+pub use model_ir::arith::arith_core;
+#[doc(no_inline)]
+pub use model_ir::{arith, camera, shape};
+#[doc(no_inline)]
+pub use model_ir::{arith_list, with_arith};
+#[doc(no_inline)]
+pub use tracer_kit::{out, say};
+#[doc(no_inline)]
+pub use {glam, model_ir, model_sources, tracer_kit};
 /// The crates of the one list of arithmetics, at the crate root too (`tracer::arith_ia`).
 macro_rules! reexport_arith_crates {
     ([ $($krate:ident),* ]) => {
         $(
             #[doc(no_inline)]
-            pub use arith::$krate;
+            pub use model_ir::arith::$krate;
         )*
     };
 }
 arith_list!(@crates [reexport_arith_crates]);
-pub use glam;
-pub use model_ir;
-pub mod camera;
-#[cfg(feature = "cli")]
-pub mod cli;
-#[cfg(feature = "gpu")]
-pub mod gpu;
-pub mod interrupt;
-pub mod lipschitz_bound;
-pub mod mesh;
-pub mod models;
-pub mod progressive;
-pub mod render;
-pub mod search;
-pub mod shape;
-
-/// `println!` for the binaries: ends the process quietly when stdout has been closed
-/// (`tracer list | head -3`: the reader wanted no more) instead of panicking, and with
-/// exit code 2 and a message on any other write error.
-#[macro_export]
-macro_rules! out {
-    ($($t:tt)*) => {{
-        use std::io::Write as _;
-        if let Err(e) = writeln!(std::io::stdout(), $($t)*) {
-            if e.kind() == std::io::ErrorKind::BrokenPipe {
-                std::process::exit(0);
-            }
-            eprintln!("error: cannot write to stdout: {e}");
-            std::process::exit(2);
-        }
-    }};
-}
-
-/// Set once [`say!`] has met a write error: the process's progress lines stop.
-#[doc(hidden)]
-pub static SAY_SILENT: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
-
-/// `println!` for progress lines of long work (the previewer's levels): a closed stdout
-/// (`tracer preview ... | head -1`) only stops the lines, the work goes on and writes
-/// its files; another write error is reported once on stderr, then the lines stop too.
-#[macro_export]
-macro_rules! say {
-    ($($t:tt)*) => {{
-        use std::io::Write as _;
-        let silent = &$crate::SAY_SILENT;
-        if !silent.load(std::sync::atomic::Ordering::Relaxed) {
-            if let Err(e) = writeln!(std::io::stdout(), $($t)*) {
-                silent.store(true, std::sync::atomic::Ordering::Relaxed);
-                if e.kind() != std::io::ErrorKind::BrokenPipe {
-                    eprintln!("warning: cannot write to stdout: {e}; going on without progress lines");
-                }
-            }
-        }
-    }};
-}

@@ -2,8 +2,8 @@
 //! misses is checked by sampling its ray for a sign change, which proves a root.
 
 use super::Cell;
-use tracer::models::PaperModel;
-use tracer::shape::Shape;
+use model_ir::shape::Shape;
+use model_sources::PaperModel;
 
 /// Samples per ray when checking a disputed pixel for a sign change.
 pub(super) const SIGN_SAMPLES: usize = 20_000;
@@ -12,7 +12,7 @@ pub(super) const SIGN_SAMPLES: usize = 20_000;
 /// sign: then the ray certainly has a root (the models are continuous).
 pub fn ray_changes_sign(m: PaperModel, (w, h): (u32, u32), i: u32, j: u32) -> bool {
     let model = m.model();
-    let cam = tracer::camera::Camera::new(model.view, w, h);
+    let cam = model_ir::camera::Camera::new(model.view, w, h);
     let (o, d) = cam.ray(i, j);
     let Some((t0, t1)) = tracer::search::ray::clip(o, d, &model.domain, 0.0) else {
         return false;

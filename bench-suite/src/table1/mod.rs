@@ -22,14 +22,14 @@ pub use report::{csv, markdown, utc_now};
 
 use crate::counter::{count_ops, Counter, OpCounts};
 use crate::paper::{self, PaperRow};
+use model_ir::arith::ArithKind;
+use model_ir::shape::Shape;
+use model_sources::PaperModel;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
-use tracer::arith::ArithKind;
-use tracer::models::PaperModel;
 use tracer::render::{render_kind, RenderOptions, RenderResult};
-use tracer::shape::Shape;
 
 /// Default fraction of the paper's resolution per axis.
 pub const DEFAULT_SCALE: f64 = 0.1;
@@ -472,7 +472,7 @@ pub fn run(opts: &Options) -> Result<Report, String> {
                     c.cell_evals = res.stats.cell_evals;
                     c.hits = res.stats.hits;
                     let path = opts.out.join(format!("{}-{}.png", m.name(), kind.name()));
-                    tracer::render::output::write_png(&path, res.width, res.height, &res.rgb)?;
+                    tracer_kit::output::write_png(&path, res.width, res.height, &res.rgb)?;
                     if !res.stats.cut {
                         masks[k] = Some(res.hit);
                     }

@@ -4,9 +4,9 @@
 use super::masks::SIGN_SAMPLES;
 use super::{median, Cell, Report, Row};
 use crate::chart::{self, Bar, Group};
+use model_ir::arith::ArithKind;
 use std::fmt::Write as _;
 use std::path::Path;
-use tracer::arith::ArithKind;
 
 pub(super) fn write(path: &Path, bytes: &[u8]) -> Result<(), String> {
     std::fs::write(path, bytes).map_err(|e| format!("cannot write '{}': {e}", path.display()))

@@ -1,9 +1,9 @@
 //! Tests of [`bench_suite::formulas`].
 
 use bench_suite::formulas::*;
-use tracer::arith::ArithKind;
-use tracer::models::formula;
-use tracer::models::noise::SplitMix64 as Rng;
+use model_ir::arith::ArithKind;
+use model_sources::formula;
+use model_sources::noise::SplitMix64 as Rng;
 
 #[test]
 fn formulas_parse_and_the_study_counts_every_one() {

@@ -4,8 +4,9 @@
 mod chart;
 mod counter;
 mod formulas;
+mod gm_rows;
+mod gm_table1;
 mod paper;
-mod progressive;
 mod scaling;
 mod scenes;
 mod table1;

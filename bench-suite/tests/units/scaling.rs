@@ -1,7 +1,7 @@
 //! Tests of [`bench_suite::scaling`].
 
 use bench_suite::scaling::*;
-use tracer::models::PaperModel;
+use model_sources::PaperModel;
 
 #[test]
 fn pixels_grow_fourfold_and_work_grows_with_them() {

@@ -4,8 +4,8 @@ use bench_suite::scenes::*;
 
 #[test]
 fn scenes_parse_and_grow_with_n() {
-    let a = tracer::models::formula::parse(&scene(10, Join::Max, 1)).unwrap();
-    let b = tracer::models::formula::parse(&scene(100, Join::RUnion, 1)).unwrap();
+    let a = model_sources::formula::parse(&scene(10, Join::Max, 1)).unwrap();
+    let b = model_sources::formula::parse(&scene(100, Join::RUnion, 1)).unwrap();
     assert!(b.len() > 5 * a.len(), "{} vs {}", a.len(), b.len());
     assert_eq!(scene(7, Join::Max, 3), scene(7, Join::Max, 3));
 }

@@ -1,10 +1,10 @@
 //! Tests of [`bench_suite::table1`].
 
 use bench_suite::table1::*;
+use model_ir::arith::ArithKind;
+use model_sources::PaperModel;
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
-use tracer::arith::ArithKind;
-use tracer::models::PaperModel;
 
 #[test]
 fn op_counts_match_the_paper_where_the_formula_is_the_papers() {

@@ -2,9 +2,9 @@
 
 use arith_core::Real;
 use bench_suite::tightness::*;
-use tracer::arith::ArithKind;
-use tracer::models::noise::SplitMix64 as Rng;
-use tracer::shape::{Aabb, Shape};
+use model_ir::arith::ArithKind;
+use model_ir::shape::{Aabb, Shape};
+use model_sources::noise::SplitMix64 as Rng;
 
 /// `f = x*y - z`, whose true range over a box is known exactly.
 struct Saddle;

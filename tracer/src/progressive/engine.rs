@@ -7,9 +7,6 @@
 
 use super::image::{pack, SharedImage};
 use super::plan::Plan;
-use crate::arith::ArithKind;
-use crate::camera::Camera;
-use crate::render::bspline_filter::{Filter, Kernel};
 use crate::render::shade::{self, Light, Material, BACKGROUND};
 use crate::search::cone::{trace_cone, trace_cone_local, ConeEnd};
 use crate::search::cone_range::trace_cone_range;
@@ -17,10 +14,13 @@ use crate::search::lipschitz::{
     box_distance, clip_to_box, local_trace, overshoot_trace, Bounded, LocalCounts,
 };
 use crate::search::ray::{first_root, Precision, RayParams, RayStats, Start};
-use crate::shape::{Aabb, Shape, View};
 use glam::DVec3;
+use model_ir::arith::ArithKind;
+use model_ir::camera::Camera;
+use model_ir::shape::{Aabb, Shape, View};
 use std::collections::VecDeque;
 use std::sync::Arc;
+use tracer_kit::bspline_filter::{Filter, Kernel};
 
 /// How a child cone's starting distance is chosen.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -65,7 +65,7 @@ pub fn auto_bound<S: Shape + ?Sized>(shape: &S, domain: &Aabb, lambda: f64) -> B
             for k in 0..n {
                 let lo = domain.min + size * DVec3::new(i as f64, j as f64, k as f64);
                 let b = Aabb::new(lo, lo + size);
-                v.push(crate::lipschitz_bound::gradient_bound_on_box(shape, &b));
+                v.push(model_ir::gradient_bound::gradient_bound_on_box(shape, &b));
             }
         }
     }
@@ -297,18 +297,18 @@ impl<S: Shape> Engine<S> {
         if opts.aa == 0 || opts.aa > 16 {
             return Err(format!("--aa must be in 1..=16, got {}", opts.aa));
         }
-        crate::camera::check_size(width, height)?;
-        crate::shape::check_domain(&domain).map_err(|e| format!("domain box: {e}"))?;
+        model_ir::camera::check_size(width, height)?;
+        model_ir::shape::check_domain(&domain).map_err(|e| format!("domain box: {e}"))?;
         if opts.bound == Bound::Auto {
             opts.bound = auto_bound(&shape, &domain, opts.lambda);
         }
         let (vw, vh) = (width * opts.aa, height * opts.aa);
-        if vw > crate::camera::MAX_SIDE || vh > crate::camera::MAX_SIDE {
+        if vw > model_ir::camera::MAX_SIDE || vh > model_ir::camera::MAX_SIDE {
             return Err(format!(
                 "image size {width}x{height} at --aa {} is {vw}x{vh} samples: each side \
                  must be at most {} samples",
                 opts.aa,
-                crate::camera::MAX_SIDE
+                model_ir::camera::MAX_SIDE
             ));
         }
         let cam = Camera::try_new(view, vw, vh)?;
@@ -567,7 +567,7 @@ impl<S: Shape> Engine<S> {
                         };
                         let mut st = RayStats::default();
                         let start = Start::whole(t0, t_out);
-                        let t = crate::with_arith!(kind, A => first_root::<A, S>(
+                        let t = model_ir::with_arith!(kind, A => first_root::<A, S>(
                             &self.shape, o, d, start, &params, &mut st
                         ));
                         evals = st.point_evals;
@@ -651,7 +651,7 @@ impl<S: Shape> Engine<S> {
         let end = if let Bound::Range(kind) = self.opts.bound {
             let mut ranges = 0;
             let dom = self.bounded_domain;
-            let e = crate::with_arith!(kind, A => trace_cone_range::<A, S>(
+            let e = model_ir::with_arith!(kind, A => trace_cone_range::<A, S>(
                 &self.shape, &dom, o, d, tan_a, t0, self.t_far, &mut ranges
             ));
             self.stats.range_evals += ranges;

@@ -51,7 +51,7 @@ impl SharedImage {
 }
 
 /// An RGB colour as a `0RGB` word (the window's pixel format).
-pub(crate) fn pack(c: [u8; 3]) -> u32 {
+pub fn pack(c: [u8; 3]) -> u32 {
     (c[0] as u32) << 16 | (c[1] as u32) << 8 | c[2] as u32
 }
 fn unpack(c: u32) -> [u8; 3] {

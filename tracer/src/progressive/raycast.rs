@@ -4,13 +4,13 @@
 //! must equal. It is a driver (a camera and a loop over pixels) over those searches, so
 //! it lives with the renderers rather than in `search/`.
 
-use crate::arith::ArithKind;
-use crate::camera::Camera;
 use crate::search::lipschitz::{
     clip_to_box, local_trace, overshoot_trace, sphere_trace, Bounded, LocalCounts,
 };
 use crate::search::ray::{first_root, Precision, RayParams, RayStats, Start};
-use crate::shape::{Aabb, Shape, View};
+use model_ir::arith::ArithKind;
+use model_ir::camera::Camera;
+use model_ir::shape::{Aabb, Shape, View};
 
 /// Which conventional ray caster.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -70,7 +70,7 @@ pub fn raycast<S: Shape + ?Sized>(
                             };
                             let mut st = RayStats::default();
                             let start = Start::whole(t0, t1);
-                            let t = crate::with_arith!(kind, A => first_root::<A, S>(
+                            let t = model_ir::with_arith!(kind, A => first_root::<A, S>(
                                 shape, o, d, start, &params, &mut st
                             ));
                             counts.range_evals += st.range_evals;

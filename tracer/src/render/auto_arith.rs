@@ -24,8 +24,8 @@
 //! used.
 
 use super::{render_kind, RenderOptions};
-use crate::arith::ArithKind;
-use crate::shape::Shape;
+use model_ir::arith::ArithKind;
+use model_ir::shape::Shape;
 
 /// Probe pixels along the longer side of the image.
 pub const PROBE_SIDE: u32 = 48;

@@ -1,9 +1,9 @@
 //! Shading: normals by central finite differences of the point function, Lambert plus
 //! Blinn-Phong with one directional light, and the background colour for misses.
 
-use crate::camera::Camera;
-use crate::shape::Shape;
 use glam::DVec3;
+use model_ir::camera::Camera;
+use model_ir::shape::Shape;
 
 /// Colour of pixels whose ray misses the surface.
 pub const BACKGROUND: [u8; 3] = [40, 44, 52];

@@ -18,13 +18,14 @@
 
 use super::shade::{self, Samples};
 use super::tile_shapes::{self, TileShapes};
+use super::types::{RenderStats, TileCtx, TileOut};
 use super::value_tree::ValueTree;
-use super::{RenderStats, TileCtx, TileOut, TileRays};
 use crate::search::ray::{clip, first_root, Precision, RayJob, RayParams, RayStats, Start};
-use crate::shape::{Aabb, Shape};
+use crate::search::tile_rays::TileRays;
 use arith_core::Arithmetic;
 use arith_ia::Interval;
 use glam::DVec3;
+use model_ir::shape::{Aabb, Shape};
 
 /// The least step of the normals' central differences, per unit of the domain's
 /// diagonal (the step is otherwise the precision at the hit).

@@ -25,10 +25,10 @@
 //! the 1024 leaf slices are shaded from.
 
 use crate::search::cull::Culler;
-use crate::shape::{Aabb, Shape};
 use arith_core::Range;
 use arith_ia::Interval;
 use glam::DVec3;
+use model_ir::shape::{Aabb, Shape};
 use rayon::prelude::*;
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicU64, Ordering};

@@ -14,8 +14,8 @@
 //! always fits one.
 
 use crate::render::tile_shapes::ranges;
-use crate::shape::{Aabb, Shape};
 use glam::DVec3;
+use model_ir::shape::{Aabb, Shape};
 
 /// Below this many instructions a node's shape is not split further: one more fold
 /// costs about as much as the evaluations it would save.
@@ -155,10 +155,10 @@ fn halves(b: &Aabb) -> [Aabb; 2] {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::models::formula::parse;
+    use model_sources::formula::parse;
 
     /// A row of balls along x, 0.5 apart, radius 0.1 (`f >= 0` inside).
-    fn row(n: usize) -> crate::models::formula::Tape {
+    fn row(n: usize) -> model_sources::formula::Tape {
         let balls: Vec<String> = (0..n)
             .map(|i| format!("(0.01 - (x - {})^2 - y^2 - z^2)", i as f64 * 0.5))
             .collect();

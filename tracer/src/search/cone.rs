@@ -6,8 +6,8 @@
 //! own. The progressive previewer's engine issues the cones, one per image sample.
 
 use super::lipschitz::Bounded;
-use crate::shape::{Aabb, Shape};
 use glam::DVec3;
+use model_ir::shape::{Aabb, Shape};
 
 /// How far cone tracing got (Section 3.1, Fig. 3).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -94,7 +94,7 @@ pub(crate) fn frustum_box(o: DVec3, d: DVec3, tan_a: f64, ta: f64, tb: f64) -> A
 
 /// Cone tracing with local Lipschitz bounds (past the paper): the cone is cut into
 /// axial segments `[ta, tb]`; in each, `λ` is the gradient bound over the box around
-/// that frustum, intersected with the domain ([`crate::lipschitz_bound::gradient_bound_on_box`],
+/// that frustum, intersected with the domain ([`model_ir::gradient_bound::gradient_bound_on_box`],
 /// capped by the global bound), and Fig. 3 runs inside it with the offsets (5) clipped
 /// to the segment (a ball certifies only the part of the cone inside the box, where its
 /// `λ` holds). The next segment starts at the cleared frontier. Segment lengths adapt
@@ -124,7 +124,7 @@ pub fn trace_cone_local<S: Shape + ?Sized>(
         let clipped = Aabb::new(bx.min.max(b.domain.min), bx.max.min(b.domain.max));
         let lam = if clipped.min.cmple(clipped.max).all() {
             *range_evals += 1;
-            crate::lipschitz_bound::gradient_bound_on_box(b.shape, &clipped).min(b.lambda)
+            model_ir::gradient_bound::gradient_bound_on_box(b.shape, &clipped).min(b.lambda)
         } else {
             b.lambda // the frustum misses the domain: any bound serves
         };

@@ -8,10 +8,10 @@
 
 use super::cone::{frustum_box, ConeEnd};
 use super::ray::{Pruner, MARCH_GROWTH};
-use crate::shape::{Aabb, Shape};
 use arith_core::round::{up_finite, ETA, U};
 use arith_core::{Arithmetic, Range};
 use glam::DVec3;
+use model_ir::shape::{Aabb, Shape};
 
 /// Two unit vectors orthogonal to the unit `d` and to each other.
 fn lateral_axes(d: DVec3) -> (DVec3, DVec3) {

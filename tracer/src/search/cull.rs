@@ -13,15 +13,15 @@
 //! slice is spanned by the corner origins and directions, the frustum form is exact
 //! for the orthographic bundle (no product terms).
 
-use crate::camera::Camera;
-use crate::search::batch::{Batch, Groups};
 use crate::search::ray::{Pruner, Start};
 use crate::search::windows::{Refine, Windows};
-use crate::shape::{Aabb, Shape};
 use arith_core::pack::LANES;
 use arith_core::round::{up_finite, ETA, U};
 use arith_core::{Arithmetic, Range};
 use glam::DVec3;
+use model_ir::camera::Camera;
+use model_ir::shape::{Aabb, Shape};
+use model_ir::shape_batch::{Batch, Groups};
 use std::sync::Arc;
 
 /// Counters of the culling pass.
@@ -907,10 +907,10 @@ fn depth_range(cam: &Camera, b: &Aabb) -> (f64, f64) {
 mod tests {
     use super::*;
     use crate::search::ray::clip;
-    use crate::shape::View;
+    use model_ir::shape::View;
 
-    use crate::arith::ArithKind;
     use arith_core::Real;
+    use model_ir::arith::ArithKind;
 
     /// `1 - r^2` (`touch == false`) or the tangent touch `-(r^2 - 1)^2` (no sign change).
     struct Ball {
@@ -936,7 +936,7 @@ mod tests {
     /// and says it packs would fail here.)
     #[test]
     fn packed_narrowing_is_the_scalar_narrowing() {
-        struct OneByOne<'a>(&'a crate::models::Model);
+        struct OneByOne<'a>(&'a model_sources::Model);
         impl Shape for OneByOne<'_> {
             fn eval<R: Real>(&self, x: R, y: R, z: R) -> R {
                 self.0.eval(x, y, z)
@@ -946,11 +946,11 @@ mod tests {
             }
         }
         // Virtual Shikki evaluates one form at a time anyway (its tape branches).
-        let models = crate::models::PaperModel::ALL
+        let models = model_sources::PaperModel::ALL
             .into_iter()
-            .filter(|&m| m != crate::models::PaperModel::Shikki)
+            .filter(|&m| m != model_sources::PaperModel::Shikki)
             .map(|m| m.model())
-            .chain(crate::models::progressive::all());
+            .chain(model_sources::gamito_maddock::all());
         for m in models {
             let (w, h) = (40, 30);
             let cam = Camera::new(m.view, w, h);
@@ -965,7 +965,7 @@ mod tests {
                     let mut rays = Vec::new();
                     let mut stats = CullStats::default();
                     let mut trace = |i, j, d, _: Option<&Arc<Windows<S>>>| rays.push((j, i, d));
-                    crate::with_arith!(kind, A => c.traverse::<A, _, _>(shape, rect, &mut stats, &mut trace));
+                    model_ir::with_arith!(kind, A => c.traverse::<A, _, _>(shape, rect, &mut stats, &mut trace));
                     rays.sort_by_key(|r| (r.0, r.1));
                     (rays, stats)
                 }
@@ -1007,7 +1007,7 @@ mod tests {
                         gaps += usize::from(s.resume > s.split);
                         got[(j * w + i) as usize] = Some(s);
                     };
-                    crate::with_arith!(kind, A => c.traverse::<A, _, _>(
+                    model_ir::with_arith!(kind, A => c.traverse::<A, _, _>(
                         &shape,
                         (0, 0, w, h),
                         &mut stats,

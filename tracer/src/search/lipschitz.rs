@@ -5,11 +5,11 @@
 //! `|f(x)| / λ` around `x` holds no root of `f` inside the domain: for `y` in both,
 //! `|f(y)| >= |f(x)| - λ |x - y| > 0`.
 
-use crate::shape::{Aabb, Shape};
 use arith_core::dual::Dual;
 use arith_core::round::up;
 use arith_core::{Range, Real};
 use glam::DVec3;
+use model_ir::shape::{Aabb, Shape};
 
 /// The default overshooting factor (the paper's "46%", after Worley and Hart).
 pub const DEFAULT_OVERSHOOT: f64 = 1.46;

@@ -8,10 +8,10 @@
 //! holds a cell's shape specialised to slices of its depths; [`batch`] evaluates the
 //! ranges that many searches in lock-step ask for in one call.
 
-pub mod batch;
 pub mod cone;
 pub mod cone_range;
 pub mod cull;
 pub mod lipschitz;
 pub mod ray;
+pub mod tile_rays;
 pub mod windows;

@@ -8,13 +8,13 @@
 //! from it (sign-change shortcut, marching from the cell's slice) and their measured effect
 //! are in `docs/algorithm-1-ray.md`.
 
-use crate::search::batch::{Batch, Groups};
 use crate::search::windows::Windows;
-use crate::shape::{Aabb, Shape};
 use arith_core::pack::LANES;
 use arith_core::round::ETA;
 use arith_core::{Arithmetic, Range};
 use glam::DVec3;
+use model_ir::shape::{Aabb, Shape};
+use model_ir::shape_batch::{Batch, Groups};
 
 /// When to stop subdividing: a segment `[t0, t1]` is resolved once
 /// `t1 - t0 <= abs + rel * max(t0, 0)`.
@@ -743,13 +743,13 @@ mod tests {
             (seed >> 11) as f64 / (1u64 << 53) as f64
         };
         // Virtual Shikki evaluates one form at a time anyway (its tape branches).
-        let models = crate::models::PaperModel::ALL
+        let models = model_sources::PaperModel::ALL
             .into_iter()
-            .filter(|&m| m != crate::models::PaperModel::Shikki)
+            .filter(|&m| m != model_sources::PaperModel::Shikki)
             .map(|m| m.model())
-            .chain(crate::models::progressive::all());
+            .chain(model_sources::gamito_maddock::all());
         for m in models {
-            let cam = crate::camera::Camera::try_new(m.view, 64, 64).unwrap();
+            let cam = model_ir::camera::Camera::try_new(m.view, 64, 64).unwrap();
             let params = pruned_at(&m, 1e-4);
             let mut jobs = Vec::new();
             // Rays until 16 meet the domain (the draws are shared between models).
@@ -780,8 +780,8 @@ mod tests {
                 });
             }
             assert!(jobs.len() >= 9, "{}: {} rays", m.name, jobs.len());
-            for kind in crate::arith::ArithKind::ALL {
-                crate::with_arith!(kind, A => {
+            for kind in model_ir::arith::ArithKind::ALL {
+                model_ir::with_arith!(kind, A => {
                     let mut got = vec![None; jobs.len()];
                     first_roots::<A, _>(&m, &[], &params, &jobs, |k, hit, st| {
                         assert!(got[k].is_none(), "ray {k} reported twice");
@@ -798,7 +798,7 @@ mod tests {
     }
 
     /// Pruning on, an absolute precision of `rel` times the model's domain diagonal.
-    fn pruned_at(m: &crate::models::Model, rel: f64) -> RayParams {
+    fn pruned_at(m: &model_sources::Model, rel: f64) -> RayParams {
         RayParams {
             precision: Precision {
                 abs: rel * (m.domain.max - m.domain.min).length(),
@@ -812,8 +812,8 @@ mod tests {
     /// reported, and without a stop every ray is.
     #[test]
     fn a_stop_ends_the_search_and_keeps_what_finished() {
-        let m = crate::models::PaperModel::Mitchell.model();
-        let cam = crate::camera::Camera::try_new(m.view, 32, 32).unwrap();
+        let m = model_sources::PaperModel::Mitchell.model();
+        let cam = model_ir::camera::Camera::try_new(m.view, 32, 32).unwrap();
         let params = pruned_at(&m, 1e-9);
         let jobs: Vec<RayJob> = (0..32 * 32)
             .filter_map(|k| {

@@ -15,8 +15,8 @@
 //! rounding of a ray's depth), so a shape is only ever used where it has the sign of
 //! the whole one.
 
-use crate::shape::Shape;
 use arith_core::Range;
+use model_ir::shape::Shape;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, OnceLock};
 

@@ -2,14 +2,14 @@
 //! hits (fidget's bear), RevAA elsewhere; and a render in the chosen arithmetic keeps
 //! the wall away.
 
-use tracer::arith::ArithKind;
-use tracer::glam::DVec3;
-use tracer::models::vm;
+use glam::DVec3;
+use model_ir::arith::ArithKind;
+use model_ir::shape::{Aabb, View};
+use model_sources::vm;
 use tracer::render::auto_arith::choose;
 use tracer::render::{render_kind, RenderOptions};
-use tracer::shape::{Aabb, View};
 
-fn bear_options(w: u32, h: u32) -> (tracer::models::formula::Tape, RenderOptions) {
+fn bear_options(w: u32, h: u32) -> (model_sources::formula::Tape, RenderOptions) {
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../bench-suite/peers/fidget/models/bear.vm"
@@ -48,7 +48,7 @@ fn the_bear_takes_hull_and_loses_its_wall() {
 
 #[test]
 fn a_model_without_walls_keeps_revaa() {
-    let m = tracer::models::find("mitchell").unwrap();
+    let m = model_sources::find("mitchell").unwrap();
     let opts = RenderOptions::new(&m, 80, 60);
     let c = choose(&m.shape, &opts).unwrap();
     assert_eq!(c.kind, ArithKind::Revaa, "{c:?}");

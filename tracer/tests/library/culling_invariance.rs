@@ -7,8 +7,8 @@
 //! pruned segment is re-tested before it can be reported. So both keep every true root;
 //! what this test also checks is that they add no spurious hit either.
 
-use tracer::arith::ArithKind;
-use tracer::models::PaperModel;
+use model_ir::arith::ArithKind;
+use model_sources::PaperModel;
 use tracer::render::{render_kind, RenderOptions};
 
 fn mask(

@@ -12,11 +12,11 @@
 
 use arith_core::Real;
 use glam::DVec3;
-use tracer::arith::ArithKind;
-use tracer::camera::Camera;
+use model_ir::arith::ArithKind;
+use model_ir::camera::Camera;
+use model_ir::shape::{Aabb, Shape, View};
 use tracer::render::{render_kind, RenderOptions, RenderResult};
 use tracer::search::ray::clip;
-use tracer::shape::{Aabb, Shape, View};
 
 const W: u32 = 48;
 const H: u32 = 48;

@@ -8,13 +8,13 @@
 use arith_core::rfunc::{intersect, subtract, union};
 use arith_core::{Range, Real};
 use glam::DVec3;
+use model_ir::arith::ArithKind;
+use model_ir::shape::{Aabb, Shape, View};
+use model_sources::formula::{parse, Tape};
+use model_sources::hyperfun::{parse_hyperfun, parse_hyperfun_with, HfOptions};
+use model_sources::noise::SplitMix64;
 use proptest::prelude::*;
-use tracer::arith::ArithKind;
-use tracer::models::formula::{parse, Tape};
-use tracer::models::hyperfun::{parse_hyperfun, parse_hyperfun_with, HfOptions};
-use tracer::models::noise::SplitMix64;
 use tracer::render::{render_kind, RenderOptions};
-use tracer::shape::{Aabb, Shape, View};
 
 fn hf(src: &str) -> Tape {
     match parse_hyperfun(src) {
@@ -593,7 +593,7 @@ fn conditional_ranges_enclose_both_branches_in_every_arithmetic() {
         my_model = hfBlendUni(f, hfSphere(q, q, 1) - q[1]^2, 0.5, 1, 1) + sign(x[3]);
       }");
     for kind in ArithKind::ALL {
-        tracer::with_arith!(kind, A => ranges_enclose::<A>(&t));
+        model_ir::with_arith!(kind, A => ranges_enclose::<A>(&t));
     }
 }
 

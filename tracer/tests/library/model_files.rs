@@ -1,4 +1,4 @@
-//! Model files through the one registry (`tracer::models::load`, `from_text`): a formula
+//! Model files through the one registry (`model_sources::load`, `from_text`): a formula
 //! file and a fidget `.vm` tape describing the same solid as hand-written Rust give the
 //! same values at random points and the same hit masks and depths (also against the
 //! analytic answer); headers set the domain and view; errors name file, line and
@@ -6,12 +6,12 @@
 
 use arith_core::{Range, Real};
 use glam::DVec3;
+use model_ir::arith::ArithKind;
+use model_ir::camera::Camera;
+use model_ir::shape::{Aabb, Shape, View};
+use model_sources::{format, from_text, Model};
 use proptest::prelude::*;
-use tracer::arith::ArithKind;
-use tracer::camera::Camera;
-use tracer::models::{self, format, from_text, Model};
 use tracer::render::{render_kind, RenderOptions};
-use tracer::shape::{Aabb, Shape, View};
 
 /// The unit ball minus the box `[-0.5, 0.5]^2 x [0, 2]` (a square notch from the top),
 /// with `min` as intersection: `min(1 - r^2, -min(0.25 - x^2, 0.25 - y^2, 1 - (z-1)^2))`.
@@ -110,7 +110,7 @@ fn analytic(o: DVec3, d: DVec3) -> (f64, f64) {
 fn the_three_writings_have_the_same_values() {
     let f = load_text(FORMULA, "expr");
     let v = load_text(VM, "vm");
-    let mut rng = tracer::models::noise::SplitMix64(7);
+    let mut rng = model_sources::noise::SplitMix64(7);
     for _ in 0..20_000 {
         let p = [(); 3].map(|_| rng.range(-1.3, 1.3));
         let want = Notched.eval(p[0], p[1], p[2]);
@@ -148,9 +148,12 @@ fn headers_set_domain_and_view() {
     // Without a header: the format's domain, framed.
     let m = load_text("1 - x^2 - y^2 - z^2", "expr");
     assert_eq!(m.domain, Aabb::cube(2.0));
-    assert_eq!(m.view, tracer::camera::frame_box(&Aabb::cube(2.0)).unwrap());
+    assert_eq!(
+        m.view,
+        model_ir::camera::frame_box(&Aabb::cube(2.0)).unwrap()
+    );
     let m = load_text("# domain: 0,0,0,1,2,3\n# view: ortho=2.5\nx", "expr");
-    let framed = tracer::camera::frame_box(&m.domain).unwrap();
+    let framed = model_ir::camera::frame_box(&m.domain).unwrap();
     assert_eq!(
         m.view,
         View {
@@ -229,29 +232,31 @@ fn errors_name_the_file_line_and_column() {
     let dir = std::env::temp_dir();
     let missing = dir.join("no-such-model-file.expr");
     let missing = missing.to_str().unwrap();
-    let e = models::load("MODEL", missing, None, None).unwrap_err();
+    let e = model_sources::load("MODEL", missing, None, None).unwrap_err();
     assert!(
         e.starts_with(&format!("MODEL '{missing}': cannot read the file")),
         "{e}"
     );
-    let e = models::load("--models", "foo.txt", None, None).unwrap_err();
+    let e = model_sources::load("--models", "foo.txt", None, None).unwrap_err();
     assert!(e.contains("--format expr|vm|hf"), "{e}");
-    let e = models::load("MODEL", "nonesuch", None, None).unwrap_err();
+    let e = model_sources::load("MODEL", "nonesuch", None, None).unwrap_err();
     assert!(
         e.contains("unknown model 'nonesuch'") && e.contains(".vm"),
         "{e}"
     );
     let d = dir.to_str().unwrap();
-    let e = models::load("MODEL", d, Some(format("expr").unwrap()), None).unwrap_err();
+    let e = model_sources::load("MODEL", d, Some(format("expr").unwrap()), None).unwrap_err();
     assert!(e.contains("is a folder"), "{e}");
     // A built-in name wins, and a file loads by its extension.
     assert_eq!(
-        models::load("MODEL", "csg", None, None).unwrap().name,
+        model_sources::load("MODEL", "csg", None, None)
+            .unwrap()
+            .name,
         "csg"
     );
     let p = dir.join(format!("tracer-model-files-{}.vm", std::process::id()));
     std::fs::write(&p, VM).unwrap();
-    let m = models::load("MODEL", p.to_str().unwrap(), None, None).unwrap();
+    let m = model_sources::load("MODEL", p.to_str().unwrap(), None, None).unwrap();
     assert_eq!(m.eval(0.0, 0.0, -0.5), Notched.eval(0.0, 0.0, -0.5));
     assert!(m.name.starts_with("tracer-model-files-"));
     let _ = std::fs::remove_file(&p);
@@ -263,9 +268,9 @@ fn errors_name_the_file_line_and_column() {
 /// support clipping), within a few ulps.
 #[test]
 fn builtin_formulas_give_the_builtins_values() {
-    let mut rng = tracer::models::noise::SplitMix64(11);
+    let mut rng = model_sources::noise::SplitMix64(11);
     let mut n = 0;
-    for m in models::all() {
+    for m in model_sources::all() {
         let Some(text) = m.shape.formula() else {
             // Noise has no formula text.
             assert!(
@@ -276,7 +281,7 @@ fn builtin_formulas_give_the_builtins_values() {
             continue;
         };
         n += 1;
-        let t = models::formula::parse(&text)
+        let t = model_sources::formula::parse(&text)
             .unwrap_or_else(|e| panic!("{}: {}", m.name, e.render(&text)));
         let d = m.domain;
         for _ in 0..2000 {

@@ -1,18 +1,15 @@
 //! Engine tests for the progressive refinement previewer (headless).
 
 use glam::DVec3;
-use tracer::cli::preview::PreviewArgs;
-use tracer::cli::run_preview;
-use tracer::cli::ModelArgs;
-use tracer::models::progressive::GmModel;
-use tracer::models::Model;
+use model_ir::shape::{Aabb, Shape, View};
+use model_sources::gamito_maddock::GmModel;
+use model_sources::Model;
 use tracer::progressive::*;
 use tracer::search::cone::{trace_cone, ConeEnd};
 use tracer::search::lipschitz::Bounded;
-use tracer::shape::{Aabb, Shape, View};
 
 fn model(name: &str) -> Model {
-    tracer::models::progressive::all()
+    model_sources::gamito_maddock::all()
         .into_iter()
         .find(|m| m.name == name)
         .unwrap()
@@ -22,7 +19,7 @@ fn model(name: &str) -> Model {
 /// each arithmetic of the one list.
 fn bound_modes() -> Vec<Bound> {
     let mut v = vec![Bound::Lipschitz, Bound::Local];
-    v.extend(tracer::arith::ArithKind::ALL.map(Bound::Range));
+    v.extend(model_ir::arith::ArithKind::ALL.map(Bound::Range));
     v
 }
 
@@ -30,7 +27,7 @@ fn bound_modes() -> Vec<Bound> {
 /// sampling finds no sign change of `f`): a near miss, where a Lipschitz caster's "hit"
 /// (a point with `|f| / λ < eps`) and a miss are both within its contract.
 fn never_crosses(m: &Model, w: u32, h: u32, k: usize) -> bool {
-    let cam = tracer::camera::Camera::new(m.view, w, h);
+    let cam = model_ir::camera::Camera::new(m.view, w, h);
     let (o, d) = cam.ray(k as u32 % w, k as u32 / w);
     let Some((t0, t1)) = tracer::search::lipschitz::clip_to_box(o, d, &m.domain) else {
         return true;
@@ -346,7 +343,7 @@ fn anti_aliasing_box_filters_subpixel_samples() {
     let m = model("mitchell-gm");
     let mut opts = Options::new(m.lipschitz.unwrap());
     opts.aa = 2;
-    opts.filter = tracer::render::bspline_filter::Kernel::Box;
+    opts.filter = tracer_kit::bspline_filter::Kernel::Box;
     let mut e = Engine::new(m.clone(), m.domain, m.view, 16, 12, opts).unwrap();
     assert_eq!(e.virtual_size(), (32, 24));
     e.run();
@@ -444,81 +441,6 @@ fn auto_bound_picks_local_bounds_where_they_pay() {
     }
 }
 
-/// An image that cannot be written at the end is kept in the temporary folder, and the
-/// error says where.
-#[test]
-fn a_failed_write_keeps_the_image_and_says_where() {
-    let blocker = std::env::temp_dir().join(format!("tracer-blocker-{}", std::process::id()));
-    std::fs::write(&blocker, "a file, not a folder").unwrap();
-    let img = SharedImage::new(4, 3, [10, 20, 30]);
-    let e = tracer::cli::preview::save_image(&img, &blocker.join("out.png"), "--out").unwrap_err();
-    assert!(
-        e.starts_with("--out '") && e.contains("the image is kept in "),
-        "{e}"
-    );
-    let kept = std::path::PathBuf::from(e.rsplit("the image is kept in ").next().unwrap());
-    let back = image::open(&kept).unwrap().to_rgb8();
-    assert_eq!(back.dimensions(), (4, 3));
-    assert_eq!(back.get_pixel(2, 1).0, [10, 20, 30]);
-    let _ = std::fs::remove_file(&kept);
-    let _ = std::fs::remove_file(&blocker);
-}
-
-#[test]
-fn headless_preview_writes_a_snapshot_per_level() {
-    let dir = std::env::temp_dir().join(format!("tracer-preview-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    let args = PreviewArgs {
-        src: ModelArgs {
-            model: Some("mitchell-gm".into()),
-            ..ModelArgs::default()
-        },
-        domain: None,
-        size: None,
-        view: Default::default(),
-        threads: None,
-        width: 24,
-        height: 16,
-        lambda: None,
-        eps: 1e-4,
-        overshoot: 1.46,
-        aa: 1,
-        filter: "quadratic".into(),
-        paper_child_start: false,
-        bound: "local".into(),
-        arith: "revaa".into(),
-        headless: true,
-        snapshots: Some(dir.clone()),
-        out: Some(dir.join("out.png")),
-        roi: None,
-        roi_level: 0,
-        fps: 30,
-        stop_after: None,
-    };
-    run_preview(&args).unwrap();
-    // 24x16: gcd 8 = 2*2*2, so levels 0, 1, 2 complete before the pixel level 3.
-    for l in 0..3 {
-        assert!(dir.join(format!("level-{l:02}.png")).exists(), "level {l}");
-    }
-    assert!(!dir.join("level-03.png").exists());
-    let out = image::open(dir.join("out.png")).unwrap();
-    assert_eq!((out.width(), out.height()), (24, 16));
-    let bad = PreviewArgs {
-        src: ModelArgs {
-            model: Some("no-such-model".into()),
-            ..ModelArgs::default()
-        },
-        ..args.clone()
-    };
-    assert!(run_preview(&bad).is_err());
-    let bad = PreviewArgs {
-        lambda: Some(-1.0),
-        ..args
-    };
-    assert!(run_preview(&bad).is_err());
-    let _ = std::fs::remove_dir_all(&dir);
-}
-
 /// With local (per ray segment) Lipschitz bounds the hit test `|f| / λ_segment < eps` is
 /// stricter than the global one, so near misses (rays passing within `eps λ / |grad f|`
 /// of the surface without crossing it) may be classified differently from the global
@@ -541,7 +463,7 @@ fn local_bounds_keep_the_guarantee_and_save_evaluations() {
             "{name}: local bounds should save point evaluations"
         );
         assert!(e.stats().range_evals > 0);
-        let cam = tracer::camera::Camera::new(m.view, w, h);
+        let cam = model_ir::camera::Camera::new(m.view, w, h);
         let f = |p: DVec3| m.eval(p.x, p.y, p.z);
         for (k, &depth) in e.depth().iter().enumerate() {
             let (o, d) = cam.ray(k as u32 % w, k as u32 / w);
@@ -570,45 +492,4 @@ fn local_bounds_keep_the_guarantee_and_save_evaluations() {
     };
     cam_check("mitchell-gm", 32, 24);
     cam_check("blobby", 16, 12);
-}
-
-#[test]
-fn bench_table_has_a_row_per_model_and_method() {
-    let models = vec![model("mitchell-gm")];
-    let rows = bench_table(&models, 16, 16).unwrap();
-    let methods: Vec<String> = rows.iter().map(|r| r.method.clone()).collect();
-    let mut expected: Vec<String> = ["previewer", "previewer-local", "previewer-auto"]
-        .map(String::from)
-        .to_vec();
-    expected.extend(tracer::arith::ArithKind::ALL.map(|k| format!("previewer-range-{k}")));
-    expected.extend(["overshoot-rc", "standard-rc", "local-rc"].map(String::from));
-    assert_eq!(methods, expected);
-    let at = |name: &str| rows.iter().find(|r| r.method == name).unwrap();
-    // The range test needs no point evaluation for its cones, only range evaluations.
-    assert!(rows
-        .iter()
-        .all(|r| r.evals + r.range_evals > 0 && r.seconds >= 0.0));
-    assert!(rows
-        .iter()
-        .filter(|r| r.method.starts_with("previewer-range"))
-        .all(|r| r.range_evals > 0));
-    // The overshooting caster needs fewer evaluations than the standard one.
-    assert!(at("overshoot-rc").evals < at("standard-rc").evals);
-    let p = at("previewer");
-    assert!(p.first_frame_s.is_some() && p.iterations.is_some());
-}
-
-#[test]
-#[ignore = "timing report at 800x800; run with --ignored --nocapture"]
-fn bench_report_800() {
-    let models: Vec<Model> = ["mitchell-gm", "hypertexture-1", "blobby"]
-        .iter()
-        .map(|n| model(n))
-        .collect();
-    for r in bench_table(&models, 800, 800).unwrap() {
-        println!(
-            "{:16} {:16} {:9.3} s  evals {:>11}  ranges {:>9}  first frame {:?}  iterations {:?}",
-            r.model, r.method, r.seconds, r.evals, r.range_evals, r.first_frame_s, r.iterations
-        );
-    }
 }

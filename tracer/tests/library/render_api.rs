@@ -4,11 +4,11 @@
 use arith_core::rfunc::union;
 use arith_core::Real;
 use glam::DVec3;
-use tracer::arith::ArithKind;
-use tracer::camera::Camera;
+use model_ir::arith::ArithKind;
+use model_ir::camera::Camera;
+use model_ir::shape::{Aabb, Shape, View};
 use tracer::render::shade::Light;
 use tracer::render::{render_kind, RenderOptions};
-use tracer::shape::{Aabb, Shape, View};
 
 /// A ball of radius 0.5 centred at `C` resting above the floor `y <= 0`.
 struct BallOnFloor;
@@ -118,7 +118,7 @@ fn huge_and_empty_sizes_are_errors() {
         );
     }
     let mut o = opts();
-    o.width = tracer::camera::MAX_SIDE;
+    o.width = model_ir::camera::MAX_SIDE;
     o.height = 1;
     o.tile = 1 << 20;
     o.deadline = Some(std::time::Instant::now());

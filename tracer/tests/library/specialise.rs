@@ -5,20 +5,20 @@
 //! depths within the precision) and, on every Appendix A model written as a formula, in
 //! their hit masks.
 
-use arith_aa::Aa;
 use arith_core::Range;
-use arith_hull::Hull;
 use arith_ia::Interval;
 use arith_revaa::RevAa;
 use glam::DVec3;
+use model_ir::arith::arith_aa::Aa;
+use model_ir::arith::arith_hull::Hull;
+use model_ir::arith::ArithKind;
+use model_ir::camera::Camera;
+use model_ir::shape::{Aabb, View};
+use model_sources::formula::{parse, Tape, ToFormula, MIN_SPECIALISE_LEN};
+use model_sources::{Model, PaperModel};
 use proptest::prelude::*;
-use tracer::arith::ArithKind;
-use tracer::camera::Camera;
-use tracer::models::formula::{parse, Tape, ToFormula, MIN_SPECIALISE_LEN};
-use tracer::models::{Model, PaperModel};
 use tracer::render::{render_kind, RenderOptions};
 use tracer::search::ray::clip;
-use tracer::shape::{Aabb, View};
 
 /// Leaves: balls, slabs and the coordinates, so that ranges over small boxes decide.
 fn leaf() -> impl Strategy<Value = String> {
@@ -468,7 +468,7 @@ fn paper_formulas_hit_the_same_pixels_with_and_without_specialisation() {
         let Some(text) = m.formula() else { continue };
         let base = m.model();
         let model = Model::formula(text, Some(base.domain)).unwrap();
-        let tracer::models::AnyShape::Expr(tape) = &model.shape else {
+        let model_sources::AnyShape::Expr(tape) = &model.shape else {
             unreachable!("a formula model is a tape")
         };
         specialising += usize::from(tape.specialises());

@@ -1,0 +1,226 @@
+//! Where the surface crosses a cell edge: root isolation with the arithmetic's ray form
+//! over the edge, not sampling.
+//!
+//! The edge is one input symbol (the ray form, [`Arithmetic::Ray`]) and `f` is
+//! evaluated over it as a dual number, so one evaluation encloses both `f` and its
+//! derivative along the edge. A segment whose range of `f` excludes 0 holds no root; a
+//! segment whose range of the derivative excludes 0 is monotone and holds exactly one
+//! root when its ends differ in sign, none otherwise: the root is *isolated* and then
+//! refined by bisection on point values. Other segments are split, down to a minimum
+//! width. So every root where `f` changes sign is found, however close they lie to each
+//! other (a sampling search misses pairs closer than its step), and the number of
+//! sign-changing roots on the edge is known: more than one means the grid is too coarse
+//! there (counted in the statistics).
+
+use super::branches::{branches, Branch};
+use super::grid::Clipped;
+use arith_core::dual::Dual;
+use arith_core::{Arithmetic, Range, Real};
+use glam::DVec3;
+use model_ir::shape::{Aabb, Shape};
+
+/// Segments narrower than this share of the edge are not split further.
+const MIN_SHARE: f64 = 1.0 / (1u64 << 24) as f64;
+/// At most this many range evaluations per edge (then the bracketing root is kept).
+const MAX_EVALS: u32 = 400;
+/// Point bisection steps after isolation (far below `f64` resolution of the edge).
+const BISECT_STEPS: u32 = 60;
+
+/// Tie tolerance of [`branches`], in edge lengths: sheets within about this distance
+/// of the crossing may meet it in one of the edge's cells.
+pub const TIE_CELLS: f64 = 2.0;
+
+/// A root of `f` on an edge, with the surface's normal there.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Crossing {
+    /// The point where the sign changes.
+    pub p: DVec3,
+    /// The unit outward normal (towards `f < 0`) from the gradient at `p`.
+    pub n: DVec3,
+    /// The other branches of `f` at `p` where `min`/`max` arguments are nearly tied
+    /// (the other sheets of a crease or corner near the crossing; empty elsewhere).
+    pub others: Vec<Branch>,
+    /// Sign-changing roots found on the edge (odd; 1 for a well-resolved edge).
+    pub roots: u32,
+    /// Range evaluations spent.
+    pub evals: u32,
+}
+
+/// Finds the crossing on the edge from `a` (`inside` at `a`) along `axis` over length
+/// `len`, of `shape` clipped to `domain`, with the other branches tied there when
+/// `with_branches`. The ends must differ in sign.
+pub fn crossing<A: Arithmetic, S: Shape>(
+    shape: &S,
+    domain: &Aabb,
+    a: DVec3,
+    axis: usize,
+    len: f64,
+    with_branches: bool,
+) -> Crossing {
+    let f = Clipped {
+        inner: shape,
+        domain: *domain,
+    };
+    let edge = Edge { f: &f, a, axis };
+    let (roots, evals) = edge.isolate::<A>(len);
+    // The first root (there is at least one: the ends differ in sign); if isolation
+    // gave up on every segment, the bracket of the whole edge.
+    let t = roots
+        .first()
+        .copied()
+        .unwrap_or_else(|| edge.bisect(0.0, len));
+    let p = edge.at(t);
+    let others = if with_branches {
+        let mut b = branches(&f, p, TIE_CELLS * len);
+        b.remove(0);
+        b
+    } else {
+        Vec::new()
+    };
+    Crossing {
+        p,
+        n: normal(&f, p, axis, edge.inside(0.0)),
+        others,
+        roots: roots.len().max(1) as u32,
+        evals,
+    }
+}
+
+/// One edge of a shape: `a + t e_axis`.
+struct Edge<'a, S> {
+    f: &'a S,
+    a: DVec3,
+    axis: usize,
+}
+
+impl<S: Shape> Edge<'_, S> {
+    fn at(&self, t: f64) -> DVec3 {
+        let mut p = self.a;
+        p[self.axis] += t;
+        p
+    }
+
+    fn inside(&self, t: f64) -> bool {
+        let p = self.at(t);
+        self.f.eval(p.x, p.y, p.z) >= 0.0
+    }
+
+    /// `f` and its derivative along the edge over `[t0, t1]`.
+    fn range<R: Range>(&self, t0: f64, t1: f64) -> Dual<R> {
+        let s = R::input(0, self.a[self.axis] + t0, self.a[self.axis] + t1);
+        let mut xyz: [Dual<R>; 3] = core::array::from_fn(|k| Dual::constant(0.0) + self.a[k]);
+        xyz[self.axis] = Dual {
+            v: s,
+            g: core::array::from_fn(|k| R::constant((k == self.axis) as u8 as f64)),
+        };
+        let [x, y, z] = xyz;
+        self.f.eval(x, y, z)
+    }
+
+    /// The sign-changing roots on `[0, len]` in increasing order, and the range
+    /// evaluations spent.
+    fn isolate<A: Arithmetic>(&self, len: f64) -> (Vec<f64>, u32) {
+        let min_w = len * MIN_SHARE;
+        let mut roots = Vec::new();
+        let mut evals = 0;
+        let mut todo = vec![(0.0, len, self.inside(0.0), self.inside(len))];
+        while let Some((t0, t1, s0, s1)) = todo.pop() {
+            if evals >= MAX_EVALS {
+                if s0 != s1 {
+                    roots.push(self.bisect(t0, t1));
+                }
+                continue;
+            }
+            evals += 1;
+            let r = self.range::<A::Ray>(t0, t1);
+            if !r.v.contains_zero() {
+                continue;
+            }
+            if !r.g[self.axis].contains_zero() || t1 - t0 <= min_w {
+                // Monotone: one root where the ends differ, none where they agree.
+                if s0 != s1 {
+                    roots.push(self.bisect(t0, t1));
+                }
+                continue;
+            }
+            let tm = 0.5 * (t0 + t1);
+            let sm = self.inside(tm);
+            // Left half on top: roots come out in increasing order.
+            todo.push((tm, t1, sm, s1));
+            todo.push((t0, tm, s0, sm));
+        }
+        (roots, evals)
+    }
+
+    /// A point of sign change in `[t0, t1]` (whose ends differ in sign) by bisection.
+    fn bisect(&self, mut t0: f64, mut t1: f64) -> f64 {
+        let s0 = self.inside(t0);
+        for _ in 0..BISECT_STEPS {
+            let tm = 0.5 * (t0 + t1);
+            if tm <= t0 || tm >= t1 {
+                break;
+            }
+            if self.inside(tm) == s0 {
+                t0 = tm;
+            } else {
+                t1 = tm;
+            }
+        }
+        0.5 * (t0 + t1)
+    }
+}
+
+/// The unit outward normal at `p`: minus the normalised gradient of `f` (`f >= 0`
+/// inside). Where the gradient is zero or not finite, the edge's direction, pointing
+/// from the inside end to the outside end (`lower_inside`: the end at the lower
+/// coordinate is inside).
+pub fn normal<S: Shape>(f: &S, p: DVec3, axis: usize, lower_inside: bool) -> DVec3 {
+    let d = f.eval(Dual::var(p.x, 0), Dual::var(p.y, 1), Dual::var(p.z, 2));
+    let g = -DVec3::from(d.g);
+    let len = g.length();
+    if len.is_finite() && len > 0.0 {
+        return g / len;
+    }
+    let mut e = DVec3::ZERO;
+    e[axis] = if lower_inside { 1.0 } else { -1.0 };
+    e
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use model_ir::arith::arith_revaa::RevAaArith;
+
+    /// Three parallel planes x = 0.1, 0.2, 0.3 (a sign change at each).
+    struct Layers;
+    impl Shape for Layers {
+        fn eval<R: Real>(&self, x: R, _y: R, _z: R) -> R {
+            (x.clone() - 0.1) * (x.clone() - 0.2) * (x - 0.3)
+        }
+    }
+
+    #[test]
+    fn every_root_of_an_edge_is_found() {
+        let domain = Aabb::cube(2.0);
+        let c =
+            crossing::<RevAaArith, _>(&Layers, &domain, DVec3::new(0.0, 0.5, 0.5), 0, 1.0, true);
+        assert_eq!(c.roots, 3);
+        assert!((c.p.x - 0.1).abs() < 1e-12, "{c:?}");
+        // f < 0 at x = 0, rising through 0.1: the outside is towards -x.
+        assert!((c.n - DVec3::new(-1.0, 0.0, 0.0)).length() < 1e-12, "{c:?}");
+    }
+
+    #[test]
+    fn two_close_roots_beside_one_crossing_are_seen() {
+        // (x - 0.5) ((x - 0.7)^2 - 1e-6): roots 0.5, 0.699, 0.701 on [0, 1].
+        struct Close;
+        impl Shape for Close {
+            fn eval<R: Real>(&self, x: R, _y: R, _z: R) -> R {
+                (x.clone() - 0.5) * ((x - 0.7).sqr() - 1e-6)
+            }
+        }
+        let domain = Aabb::cube(2.0);
+        let c = crossing::<RevAaArith, _>(&Close, &domain, DVec3::ZERO, 0, 1.0, true);
+        assert_eq!(c.roots, 3);
+    }
+}

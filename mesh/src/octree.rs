@@ -1,0 +1,354 @@
+//! The octree search: from the cube down to the leaf level, a cell whose range of `f`
+//! (the arithmetic's cell form, three independent symbols as culling's cells) excludes
+//! 0 is proved empty or full and dropped; the others are split. A leaf with a sign
+//! change among its corners is kept for dual contouring.
+//!
+//! A leaf whose range still holds 0 while its 8 corners agree is *not* assumed empty
+//! (the peers' mistake: features thinner than a cell vanish). Unless the
+//! Plantinga–Vegter test certifies it (then any surface in it is one sheet that its
+//! neighbours' sign changes account for: a bulge of the surface through a face, not a
+//! feature of its own), it is probed below the leaf level, down to the maximum depth,
+//! until every sub-cell's range excludes 0 or is certified, or a sub-cell shows a sign
+//! change among its corners. A sign change at level `d` says
+//! that the leaf level must be at least `d` for that part of the surface to be meshed;
+//! the caller then searches again at that level ([`Descent::needs`]). Probes that reach
+//! the maximum depth with a range that still holds 0 and no sign change are counted
+//! ([`Descent::unresolved`]): a tangency, a feature thinner than the finest cell, or
+//! the arithmetic's overestimation.
+//!
+//! A leaf with a sign change that is not certified is checked on a finer lattice of
+//! points ([`super::consistency`]): where the lattice shows another topology than the
+//! corners (a thin shell through a corner), the leaf level must rise too.
+//!
+//! Below [`SPECIALISE_EVERY`] levels the shape is specialised to the cell
+//! ([`Shape::specialise`]) and the shorter shape serves the cell's subtree's range
+//! tests (never its point values: those use the whole shape).
+
+use super::certificate::certified;
+use super::consistency::finer_topology;
+use super::grid::{cell_inputs, corner_mask, corner_of, crosses, Clipped, Grid};
+use arith_core::{Arithmetic, Range};
+use model_ir::shape::{Aabb, Shape};
+use model_ir::shape_batch::Batch;
+use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// Specialise the shape to a cell every this many levels.
+pub const SPECIALISE_EVERY: u32 = 3;
+
+/// Sub-cells a probe evaluates at most per leaf.
+pub const PROBE_BUDGET: u32 = 256;
+
+/// Cells are handed to threads as the subtrees below this level.
+const TASK_LEVEL: u32 = 3;
+
+/// What the search found.
+#[derive(Clone, Debug, Default)]
+pub struct Descent {
+    /// Leaves at the leaf level with a sign change among their corners.
+    pub cells: Vec<[u32; 3]>,
+    /// The deepest level at which a probe below the leaf level found a sign change
+    /// (the leaf level itself when none did).
+    pub needs: u32,
+    /// Probes at the maximum depth whose range still held 0 with no sign change.
+    pub unresolved: u64,
+    /// Cells whose range was evaluated.
+    pub visited: u64,
+    /// Cells dropped because their range excluded 0.
+    pub pruned: u64,
+    /// Cells below the leaf level that probes evaluated.
+    pub probed: u64,
+    /// Point evaluations (corner signs).
+    pub point_evals: u64,
+    /// Cells whose shape was specialised.
+    pub specialised: u64,
+    /// Plantinga–Vegter tests of probed cells.
+    pub certificates: u64,
+    /// Leaves with a sign change whose finer lattice showed another topology.
+    pub finer: u64,
+    /// Whether the search was cancelled (the result is then incomplete).
+    pub cancelled: bool,
+}
+
+impl Descent {
+    fn merge(&mut self, o: Descent) {
+        self.cells.extend(o.cells);
+        self.needs = self.needs.max(o.needs);
+        self.unresolved += o.unresolved;
+        self.visited += o.visited;
+        self.pruned += o.pruned;
+        self.probed += o.probed;
+        self.point_evals += o.point_evals;
+        self.specialised += o.specialised;
+        self.certificates += o.certificates;
+        self.finer += o.finer;
+        self.cancelled |= o.cancelled;
+    }
+}
+
+/// The search's fixed inputs.
+pub struct Octree<'a, S> {
+    /// The shape (unclipped; the search clips it to `domain`).
+    pub shape: &'a S,
+    /// The domain the shape is clipped to.
+    pub domain: Aabb,
+    /// The cube.
+    pub grid: Grid,
+    /// The leaf level.
+    pub level: u32,
+    /// The deepest level probes go to.
+    pub max_depth: u32,
+    /// Stops the search when set.
+    pub cancel: Option<&'a AtomicBool>,
+}
+
+impl<S: Shape> Octree<'_, S> {
+    /// Searches the cube: the leaves with sign changes and what the probes found.
+    /// `done(1)` is called once per finished subtree below level `min(level, 3)` (there
+    /// are [`Octree::tasks`] of them).
+    pub fn search<A: Arithmetic>(&self, done: &(dyn Fn(u64) + Sync)) -> Descent {
+        let top = self.level.min(TASK_LEVEL);
+        let n = 1u32 << top;
+        let tasks: Vec<[u32; 3]> = (0..n * n * n)
+            .map(|i| [i % n, i / n % n, i / (n * n)])
+            .collect();
+        let parts: Vec<Descent> = tasks
+            .par_iter()
+            .map(|&c| {
+                let mut d = Descent::default();
+                if !self.cancelled() {
+                    self.node::<A>(self.shape, top, c, &mut d);
+                } else {
+                    d.cancelled = true;
+                }
+                done(1);
+                d
+            })
+            .collect();
+        let mut all = Descent {
+            needs: self.level,
+            ..Descent::default()
+        };
+        for p in parts {
+            all.merge(p);
+        }
+        all.cancelled |= self.cancelled();
+        all
+    }
+
+    /// How many subtrees [`Octree::search`] hands to threads.
+    pub fn tasks(&self) -> u64 {
+        1 << (3 * self.level.min(TASK_LEVEL))
+    }
+
+    fn cancelled(&self) -> bool {
+        self.cancel.is_some_and(|c| c.load(Ordering::Relaxed))
+    }
+
+    /// The range of `shape` (clipped) over cell `c` at `level` holds 0.
+    fn may_cross<A: Arithmetic>(&self, shape: &S, b: &Aabb) -> bool {
+        let clipped = Clipped {
+            inner: shape,
+            domain: self.domain,
+        };
+        let [x, y, z] = cell_inputs::<A::Cell>(b);
+        clipped.eval(x, y, z).contains_zero()
+    }
+
+    /// The corners' signs of cell `c` at `level`: a mask with bit `i` set where corner
+    /// `i` is inside (`f >= 0`).
+    fn corner_mask(&self, level: u32, c: [u32; 3], d: &mut Descent) -> u8 {
+        d.point_evals += 8;
+        corner_mask(self.shape, &self.domain, &self.grid, level, c)
+    }
+
+    /// Visits cell `c` at `level` (the top of a task's subtree).
+    fn node<A: Arithmetic>(&self, shape: &S, level: u32, c: [u32; 3], d: &mut Descent) {
+        if d.cancelled || self.cancelled() {
+            d.cancelled = true;
+            return;
+        }
+        d.visited += 1;
+        if !self.may_cross::<A>(shape, &self.grid.cell_box(level, c)) {
+            d.pruned += 1;
+            return;
+        }
+        self.crossing::<A>(shape, level, c, d);
+    }
+
+    /// A cell whose range holds 0: a leaf is kept or probed, any other cell's eight
+    /// children are evaluated in one batch ([`Batch`]) and those whose range holds 0
+    /// visited in turn.
+    fn crossing<A: Arithmetic>(&self, shape: &S, level: u32, c: [u32; 3], d: &mut Descent) {
+        if level == self.level {
+            let m = self.corner_mask(level, c, d);
+            if crosses(m) {
+                d.cells.push(c);
+                self.check_pieces::<A>(shape, level, c, d);
+            } else {
+                let mut budget = PROBE_BUDGET;
+                self.probe::<A>(shape, level, c, d, &mut budget);
+            }
+            return;
+        }
+        let b = self.grid.cell_box(level, c);
+        let special = (level.checked_rem(SPECIALISE_EVERY) == Some(0) && shape.specialises())
+            .then(|| shape.specialise(&[cell_inputs::<A::Cell>(&b)]))
+            .flatten();
+        d.specialised += special.is_some() as u64;
+        let sub = special.as_ref().unwrap_or(shape);
+        let kids: [[u32; 3]; 8] = core::array::from_fn(|i| child(c, i));
+        let clipped = Clipped {
+            inner: sub,
+            domain: self.domain,
+        };
+        let mut ranges: [Option<A::Cell>; 8] = Default::default();
+        Batch::<A::CellPack>::default().eval(
+            &clipped,
+            &[0, 1, 2, 3, 4, 5, 6, 7],
+            |i| cell_inputs(&self.grid.cell_box(level + 1, kids[i])),
+            &mut ranges,
+        );
+        for (k, f) in kids.into_iter().zip(ranges) {
+            if d.cancelled || self.cancelled() {
+                d.cancelled = true;
+                return;
+            }
+            d.visited += 1;
+            if !f.is_some_and(|f| f.contains_zero()) {
+                d.pruned += 1;
+                continue;
+            }
+            self.crossing::<A>(sub, level + 1, k, d);
+        }
+    }
+
+    /// Looks below cell `c` at `level` (its range holds 0, its corners agree) for sign
+    /// changes, down to the maximum depth, unless the Plantinga–Vegter test certifies
+    /// the cell: then whatever surface it holds is a single sheet, a graph over one
+    /// direction, that cannot close on itself inside the cell (a small component or
+    /// both sheets of a thin shell would need gradients of opposite directions), so
+    /// the sign changes of its neighbours already account for it.
+    ///
+    /// Depth first, at most `budget` sub-cells per leaf (a layer of sub-cells along a
+    /// surface that only touches the leaf keeps 0 in its ranges down to the maximum
+    /// depth, `4^k` of them `k` levels down); the first sign change ends the probe
+    /// (the leaf level is raised and the search runs again). Returns whether it found
+    /// one. Sub-cells left when the budget runs out count as unresolved.
+    fn probe<A: Arithmetic>(
+        &self,
+        shape: &S,
+        level: u32,
+        c: [u32; 3],
+        d: &mut Descent,
+        budget: &mut u32,
+    ) -> bool {
+        let b = self.grid.cell_box(level, c);
+        d.certificates += 1;
+        if certified::<A, S>(shape, &self.domain, &b) {
+            return false;
+        }
+        if level >= self.max_depth || *budget == 0 {
+            d.unresolved += 1;
+            return false;
+        }
+        for i in 0..8 {
+            let (l, k) = (level + 1, child(c, i));
+            if *budget == 0 {
+                d.unresolved += 1;
+                return false;
+            }
+            *budget -= 1;
+            d.probed += 1;
+            if !self.may_cross::<A>(shape, &self.grid.cell_box(l, k)) {
+                continue;
+            }
+            let m = self.corner_mask(l, k, d);
+            if crosses(m) || self.probe::<A>(shape, l, k, d, budget) {
+                d.needs = d.needs.max(l);
+                return true;
+            }
+        }
+        false
+    }
+
+    /// For a leaf with a sign change that the Plantinga–Vegter test does not certify:
+    /// whether a finer lattice shows another topology than its corners
+    /// ([`finer_topology`]); if so the leaf level must reach that sub-level.
+    fn check_pieces<A: Arithmetic>(&self, shape: &S, level: u32, c: [u32; 3], d: &mut Descent) {
+        if level >= self.max_depth {
+            return;
+        }
+        d.certificates += 1;
+        if certified::<A, S>(shape, &self.domain, &self.grid.cell_box(level, c)) {
+            return;
+        }
+        let levels = self.max_depth - level;
+        let (k, evals) = finer_topology(self.shape, &self.domain, &self.grid, level, c, levels);
+        d.point_evals += evals;
+        if let Some(k) = k {
+            d.finer += 1;
+            d.needs = d.needs.max(level + k);
+        }
+    }
+}
+
+/// Child `i` (0..8, bits x, y, z) of cell `c`: coordinates one level down.
+pub fn child(c: [u32; 3], i: usize) -> [u32; 3] {
+    corner_of([2 * c[0], 2 * c[1], 2 * c[2]], i)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use arith_core::Real;
+    use glam::DVec3;
+    use model_ir::arith::arith_ia::IaArith;
+
+    /// A ball of radius `.0` centred at `(.1, .1, .1)`.
+    struct Ball(f64, f64);
+    impl Shape for Ball {
+        fn eval<R: Real>(&self, x: R, y: R, z: R) -> R {
+            let c = self.1;
+            ((x - c).sqr() + (y - c).sqr() + (z - c).sqr()).rsub(self.0 * self.0)
+        }
+    }
+
+    fn search(shape: &Ball, level: u32, max_depth: u32) -> Descent {
+        let domain = Aabb::cube(1.0);
+        let o = Octree {
+            shape,
+            domain,
+            grid: Grid::new(&domain, level),
+            level,
+            max_depth,
+            cancel: None,
+        };
+        o.search::<IaArith>(&|_| {})
+    }
+
+    #[test]
+    fn a_ball_keeps_its_surface_cells_only() {
+        let d = search(&Ball(0.6, 0.0), 4, 6);
+        assert!(!d.cells.is_empty());
+        assert!(d.pruned > 0);
+        let g = Grid::new(&Aabb::cube(1.0), 4);
+        for c in &d.cells {
+            let b = g.cell_box(4, *c);
+            let (near, far) = (
+                b.min.max(-b.max).max(DVec3::ZERO),
+                b.min.abs().max(b.max.abs()),
+            );
+            assert!(near.length() <= 0.6 && far.length() >= 0.6, "{c:?}");
+        }
+        assert_eq!(d.needs, 4);
+    }
+
+    #[test]
+    fn a_ball_inside_one_cell_is_found_below_it() {
+        // Radius 0.02 at 0.07: inside one cell of side 2/7, no corner of it inside.
+        let d = search(&Ball(0.02, 0.07), 3, 7);
+        assert!(d.cells.is_empty());
+        assert!(d.needs > 3 && d.needs <= 7, "needs {}", d.needs);
+    }
+}

@@ -1,0 +1,281 @@
+//! Self-intersections of a triangle mesh, counted over a bounding volume hierarchy.
+//!
+//! A small AABB tree (median splits along the longest axis of the centroids' box) is
+//! built over the triangles; each triangle queries it for the triangles whose boxes
+//! overlap its own and tests each pair once. A hand-written tree rather than `bvh` or
+//! `parry3d`: this is all the mesher needs, and it keeps their dependency trees out of
+//! the build.
+//!
+//! Pair tests, in `f64` (not exact predicates: a pair that touches within rounding
+//! may go either way):
+//! - no shared vertex: the triangles intersect when an edge of one crosses the other
+//!   (exact for triangles that are not coplanar; coplanar overlapping pairs are not
+//!   counted);
+//! - one shared vertex `v`: the planes meet in a line through `v`, and each triangle
+//!   meets it in a segment from `v`; the triangles overlap beyond `v` when that segment
+//!   leaves one triangle through the far edge, which then crosses the other triangle:
+//!   the far edge of either crossing the other is the test;
+//! - two shared vertices (a shared edge): they intersect only when folded onto each
+//!   other, coplanar with the other vertices on the same side of the edge.
+
+use crate::triangles::Mesh;
+use glam::DVec3;
+use rayon::prelude::*;
+
+/// Triangles per leaf of the tree.
+const LEAF: usize = 4;
+
+/// The number of intersecting pairs of triangles of `mesh`.
+pub fn count(mesh: &Mesh) -> u64 {
+    let tris: Vec<[DVec3; 3]> = mesh
+        .triangles
+        .iter()
+        .map(|t| t.map(|i| DVec3::from(mesh.vertices[i as usize])))
+        .collect();
+    let boxes: Vec<(DVec3, DVec3)> = tris.iter().map(tri_box).collect();
+    let bvh = Bvh::build(&boxes);
+    (0..tris.len())
+        .into_par_iter()
+        .map(|i| {
+            let mut n = 0u64;
+            bvh.query(&boxes[i], &mut |j| {
+                if j > i && intersect(&mesh.triangles[i], &tris[i], &mesh.triangles[j], &tris[j]) {
+                    n += 1;
+                }
+            });
+            n
+        })
+        .sum()
+}
+
+fn tri_box(t: &[DVec3; 3]) -> (DVec3, DVec3) {
+    (t[0].min(t[1]).min(t[2]), t[0].max(t[1]).max(t[2]))
+}
+
+fn overlap(a: &(DVec3, DVec3), b: &(DVec3, DVec3)) -> bool {
+    a.0.cmple(b.1).all() && b.0.cmple(a.1).all()
+}
+
+/// A node: its box and either two children or a range of `order`.
+struct Node {
+    bounds: (DVec3, DVec3),
+    /// Children's indices, or `(start, end)` of `order` for a leaf.
+    kids: (usize, usize),
+    leaf: bool,
+}
+
+struct Bvh {
+    nodes: Vec<Node>,
+    order: Vec<usize>,
+}
+
+impl Bvh {
+    fn build(boxes: &[(DVec3, DVec3)]) -> Bvh {
+        let mut b = Bvh {
+            nodes: Vec::with_capacity(2 * boxes.len() / LEAF + 1),
+            order: (0..boxes.len()).collect(),
+        };
+        if !boxes.is_empty() {
+            b.split(boxes, 0, boxes.len());
+        }
+        b
+    }
+
+    /// Builds the node over `order[start..end]`, returning its index.
+    fn split(&mut self, boxes: &[(DVec3, DVec3)], start: usize, end: usize) -> usize {
+        let bounds = self.order[start..end]
+            .iter()
+            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &i| {
+                (lo.min(boxes[i].0), hi.max(boxes[i].1))
+            });
+        let id = self.nodes.len();
+        self.nodes.push(Node {
+            bounds,
+            kids: (start, end),
+            leaf: true,
+        });
+        if end - start <= LEAF {
+            return id;
+        }
+        let centre = |i: usize| (boxes[i].0 + boxes[i].1) * 0.5;
+        let (clo, chi) = self.order[start..end]
+            .iter()
+            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &i| {
+                (lo.min(centre(i)), hi.max(centre(i)))
+            });
+        let axis = (chi - clo).max_position();
+        let mid = (start + end) / 2;
+        self.order[start..end].select_nth_unstable_by(mid - start, |&a, &b| {
+            centre(a)[axis].total_cmp(&centre(b)[axis])
+        });
+        let l = self.split(boxes, start, mid);
+        let r = self.split(boxes, mid, end);
+        self.nodes[id].kids = (l, r);
+        self.nodes[id].leaf = false;
+        id
+    }
+
+    /// Calls `hit` with every triangle whose box overlaps `b`.
+    fn query(&self, b: &(DVec3, DVec3), hit: &mut impl FnMut(usize)) {
+        if self.nodes.is_empty() {
+            return;
+        }
+        let mut stack = vec![0usize];
+        while let Some(n) = stack.pop() {
+            let node = &self.nodes[n];
+            if !overlap(&node.bounds, b) {
+                continue;
+            }
+            if node.leaf {
+                for &i in &self.order[node.kids.0..node.kids.1] {
+                    hit(i);
+                }
+            } else {
+                stack.push(node.kids.0);
+                stack.push(node.kids.1);
+            }
+        }
+    }
+}
+
+/// Whether triangles `a` and `b` (indices `ia`, `ib`) intersect other than in the
+/// vertices and edge they share.
+fn intersect(ia: &[u32; 3], a: &[DVec3; 3], ib: &[u32; 3], b: &[DVec3; 3]) -> bool {
+    let shared: Vec<(usize, usize)> = (0..3)
+        .flat_map(|i| (0..3).map(move |j| (i, j)))
+        .filter(|&(i, j)| ia[i] == ib[j])
+        .collect();
+    match shared.len() {
+        0 => (0..3).any(|k| {
+            segment_hits(a[k], a[(k + 1) % 3], b) || segment_hits(b[k], b[(k + 1) % 3], a)
+        }),
+        1 => {
+            let (i, j) = shared[0];
+            let far_a = (a[(i + 1) % 3], a[(i + 2) % 3]);
+            let far_b = (b[(j + 1) % 3], b[(j + 2) % 3]);
+            segment_hits_strictly(far_a.0, far_a.1, b, b[j])
+                || segment_hits_strictly(far_b.0, far_b.1, a, a[i])
+        }
+        2 => folded(a, b, &shared),
+        _ => true,
+    }
+}
+
+/// Whether the segment `p q` meets the triangle `t` (closed).
+fn segment_hits(p: DVec3, q: DVec3, t: &[DVec3; 3]) -> bool {
+    let n = (t[1] - t[0]).cross(t[2] - t[0]);
+    let (dp, dq) = (n.dot(p - t[0]), n.dot(q - t[0]));
+    if (dp > 0.0 && dq > 0.0) || (dp < 0.0 && dq < 0.0) || (dp == 0.0 && dq == 0.0) {
+        return false;
+    }
+    let x = p + (q - p) * (dp / (dp - dq));
+    inside_triangle(x, t, n)
+}
+
+/// [`segment_hits`], except at the shared vertex `v` of `t`.
+fn segment_hits_strictly(p: DVec3, q: DVec3, t: &[DVec3; 3], v: DVec3) -> bool {
+    let n = (t[1] - t[0]).cross(t[2] - t[0]);
+    let (dp, dq) = (n.dot(p - t[0]), n.dot(q - t[0]));
+    if (dp > 0.0 && dq > 0.0) || (dp < 0.0 && dq < 0.0) || (dp == 0.0 && dq == 0.0) {
+        return false;
+    }
+    let x = p + (q - p) * (dp / (dp - dq));
+    x != v && inside_triangle(x, t, n)
+}
+
+/// Whether `x`, in the plane of `t` with normal `n`, lies in `t` (closed).
+fn inside_triangle(x: DVec3, t: &[DVec3; 3], n: DVec3) -> bool {
+    (0..3).all(|k| (t[(k + 1) % 3] - t[k]).cross(x - t[k]).dot(n) >= 0.0)
+}
+
+/// Whether two triangles sharing an edge are folded onto each other: coplanar, with
+/// their third vertices on the same side of the edge.
+fn folded(a: &[DVec3; 3], b: &[DVec3; 3], shared: &[(usize, usize)]) -> bool {
+    let (i0, i1) = (shared[0].0, shared[1].0);
+    let (j0, j1) = (shared[0].1, shared[1].1);
+    let ta = a[3 - i0 - i1];
+    let tb = b[3 - j0 - j1];
+    let (p, q) = (a[i0], a[i1]);
+    let na = (q - p).cross(ta - p);
+    let nb = (q - p).cross(tb - p);
+    let scale = na.length() * nb.length();
+    // Coplanar and on the same side: the normals of (p, q, ta) and (p, q, tb) agree.
+    scale > 0.0 && na.dot(nb) >= scale * (1.0 - 1e-12)
+}
+
+impl Mesh {
+    /// Pairs of triangles that intersect other than in shared vertices and edges.
+    pub fn self_intersections(&self) -> u64 {
+        count(self)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn mesh(vertices: Vec<[f64; 3]>, triangles: Vec<[u32; 3]>) -> Mesh {
+        Mesh {
+            vertices,
+            triangles,
+        }
+    }
+
+    #[test]
+    fn crossing_triangles_are_counted_once() {
+        let m = mesh(
+            vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [0.2, 0.2, -0.5],
+                [0.2, 0.2, 0.5],
+                [0.9, 0.9, 0.0],
+            ],
+            vec![[0, 1, 2], [3, 4, 5]],
+        );
+        assert_eq!(count(&m), 1);
+    }
+
+    #[test]
+    fn neighbours_sharing_an_edge_or_a_vertex_do_not_count() {
+        let m = mesh(
+            vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [1.0, 1.0, 0.1],
+                [-1.0, -1.0, 0.3],
+            ],
+            vec![[0, 1, 2], [1, 3, 2], [0, 4, 1]],
+        );
+        assert_eq!(count(&m), 0);
+    }
+
+    #[test]
+    fn a_fold_and_a_fan_through_a_shared_vertex_count() {
+        // (0, 1, 3) folded back onto (0, 1, 2).
+        let fold = mesh(
+            vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [0.5, 0.5, 0.0],
+            ],
+            vec![[0, 1, 2], [1, 0, 3]],
+        );
+        assert_eq!(count(&fold), 1);
+        // A triangle from vertex 0 piercing (0, 1, 2) beyond the vertex.
+        let pierce = mesh(
+            vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [0.6, 0.6, -0.5],
+                [0.6, 0.6, 0.5],
+            ],
+            vec![[0, 1, 2], [0, 3, 4]],
+        );
+        assert_eq!(count(&pierce), 1);
+    }
+}
