@@ -3,17 +3,19 @@
 
 use crate::args::{domain as domain_arg, value_error, vec3};
 use crate::camera::PyCamera;
-use crate::detached::{pool, run, Report};
+use crate::detached::{pool, run, Counter, Report};
 use crate::shape::PyShape;
 use crate::toolkit::camera::{check_size, Camera, MAX_SIDE};
+use crate::toolkit::models::AnyShape;
 use crate::toolkit::render::{
-    choose_arith, downsample_render, render_kind, write_depth, write_png, Filter, Kernel, Progress,
-    RenderOptions, RenderResult, RenderStats,
+    choose_arith, downsample_render, render_kind, write_depth, write_png, Choice, Filter, Kernel,
+    Progress, RenderOptions, RenderResult, RenderStats,
 };
-use crate::toolkit::ArithKind;
+use crate::toolkit::{ArithKind, View};
 use numpy::{PyArray1, PyArray2, PyArray3, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
 /// The render's options that are not the tracer's own: how to pick the arithmetic and
@@ -104,35 +106,8 @@ pub fn render<'py>(
             )
         })?),
     };
-    let mut view = camera.map_or(shape.model.view, |c| c.view);
-    if let Some(v) = eye {
-        view.eye = vec3("eye", v)?;
-    }
-    if let Some(v) = look_at {
-        view.look_at = vec3("look_at", v)?;
-    }
-    if let Some(v) = up {
-        view.up = vec3("up", v)?;
-    }
-    if let Some(f) = fov {
-        view.fov_deg = f;
-    }
-    if ortho.is_some() {
-        view.ortho = ortho;
-    }
-    let (w, h) = size;
-    check_size(w, h).map_err(|e| value_error("size", e))?;
-    if aa == 0 || aa > 16 {
-        return Err(value_error("aa", format!("{aa}: must be in 1..=16")));
-    }
-    let (vw, vh) = (w as u64 * aa as u64, h as u64 * aa as u64);
-    if vw > MAX_SIDE as u64 || vh > MAX_SIDE as u64 {
-        return Err(value_error(
-            "aa",
-            format!("{w}x{h} at {aa} rays per pixel side is {vw}x{vh} rays; each side must be at most {MAX_SIDE}"),
-        ));
-    }
-    let (vw, vh) = (vw as u32, vh as u32);
+    let view = view_of(shape, camera, [eye, look_at, up], fov, ortho)?;
+    let (vw, vh) = rays_size(size, aa)?;
     Camera::try_new(view, vw, vh).map_err(|e| value_error("camera", e))?;
     let kernel: Kernel = filter.parse().map_err(|e| value_error("filter", e))?;
     let dom = match domain {
@@ -163,22 +138,7 @@ pub fn render<'py>(
     let pool = pool(threads)?;
     let model = &shape.model.shape;
     let (res, kind, probe) = run(py, &report, pool.as_ref(), |cancel, counter| {
-        let mut opts = plan.opts.clone();
-        opts.cancel = Some(cancel.clone());
-        opts.progress = Some(counter.clone() as Arc<dyn Progress>);
-        let (kind, probe) = match plan.kind {
-            Some(k) => (k, None),
-            None => {
-                let c = choose_arith(model, &opts)?;
-                (c.kind, Some(c))
-            }
-        };
-        let res = render_kind(kind, model, &opts)?;
-        let res = match &plan.filter {
-            Some(f) => downsample_render(&res, plan.size.0, plan.size.1, f),
-            None => res,
-        };
-        Ok::<_, String>((res, kind, probe))
+        plan.trace(model, cancel, counter)
     })?
     .map_err(|e| value_error("render", e))?;
     let stats = stats_dict(py, &res.stats, kind)?;
@@ -187,30 +147,108 @@ pub fn render<'py>(
             .unconfirmed
             .1
             .map_or("not probed".into(), |u| u.to_string());
-        stats.set_item(
-            "auto",
-            format!(
-                "{} (probe {}x{}: {} hits, unconfirmed revaa {}, hull {hull})",
-                c.kind, c.size.0, c.size.1, c.hits, c.unconfirmed.0
-            ),
-        )?;
-    }
-    let (hits, unconfirmed) = (res.stats.hits, res.stats.unconfirmed);
-    if unconfirmed * 4 > hits {
-        let msg = format!(
-            "{unconfirmed} of {hits} hit pixels are unconfirmed (no sign change of f within \
-             the precision): f may be infinite or NaN on a region (a division by 0, ln of \
-             values <= 0) or touch 0 without crossing it"
+        let probe = format!(
+            "{} (probe {}x{}: {} hits, unconfirmed revaa {}, hull {hull})",
+            c.kind, c.size.0, c.size.1, c.hits, c.unconfirmed.0
         );
-        PyErr::warn(
-            py,
-            py.get_type::<pyo3::exceptions::PyRuntimeWarning>().as_any(),
-            &std::ffi::CString::new(msg)?,
-            1,
-        )?;
+        stats.set_item("auto", probe)?;
     }
+    warn_unconfirmed(py, &res.stats)?;
     let (rgb, depth) = arrays(py, res)?;
     Ok((rgb, depth, stats))
+}
+
+impl Plan {
+    /// The render (after the probe of `arith="auto"`), filtered down where anti-aliased:
+    /// the result, the arithmetic used and the probe's choice.
+    fn trace(
+        &self,
+        model: &AnyShape,
+        cancel: &Arc<AtomicBool>,
+        counter: &Arc<Counter>,
+    ) -> Result<(RenderResult, ArithKind, Option<Choice>), String> {
+        let mut opts = self.opts.clone();
+        opts.cancel = Some(cancel.clone());
+        opts.progress = Some(counter.clone() as Arc<dyn Progress>);
+        let (kind, probe) = match self.kind {
+            Some(k) => (k, None),
+            None => {
+                let c = choose_arith(model, &opts)?;
+                (c.kind, Some(c))
+            }
+        };
+        let res = render_kind(kind, model, &opts)?;
+        let res = match &self.filter {
+            Some(f) => downsample_render(&res, self.size.0, self.size.1, f),
+            None => res,
+        };
+        Ok((res, kind, probe))
+    }
+}
+
+/// The camera: `camera` or the shape's, with each of `eye, look_at, up`, `fov` and
+/// `ortho` given replacing that part.
+fn view_of(
+    shape: &PyShape,
+    camera: Option<&PyCamera>,
+    points: [Option<&Bound<'_, PyAny>>; 3],
+    fov: Option<f64>,
+    ortho: Option<f64>,
+) -> PyResult<View> {
+    let mut view = camera.map_or(shape.model.view, |c| c.view);
+    let [eye, look_at, up] = points;
+    if let Some(v) = eye {
+        view.eye = vec3("eye", v)?;
+    }
+    if let Some(v) = look_at {
+        view.look_at = vec3("look_at", v)?;
+    }
+    if let Some(v) = up {
+        view.up = vec3("up", v)?;
+    }
+    if let Some(f) = fov {
+        view.fov_deg = f;
+    }
+    if ortho.is_some() {
+        view.ortho = ortho;
+    }
+    Ok(view)
+}
+
+/// The rays across and down: the image `size` at `aa x aa` rays per pixel, each side
+/// within the camera's limit.
+fn rays_size(size: (u32, u32), aa: u32) -> PyResult<(u32, u32)> {
+    let (w, h) = size;
+    check_size(w, h).map_err(|e| value_error("size", e))?;
+    if aa == 0 || aa > 16 {
+        return Err(value_error("aa", format!("{aa}: must be in 1..=16")));
+    }
+    let (vw, vh) = (w as u64 * aa as u64, h as u64 * aa as u64);
+    if vw > MAX_SIDE as u64 || vh > MAX_SIDE as u64 {
+        return Err(value_error(
+            "aa",
+            format!(
+                "{w}x{h} at {aa} rays per pixel side is {vw}x{vh} rays; each side must be at \
+                 most {MAX_SIDE}"
+            ),
+        ));
+    }
+    Ok((vw as u32, vh as u32))
+}
+
+/// A `RuntimeWarning` where over a quarter of the hits are unconfirmed.
+fn warn_unconfirmed(py: Python<'_>, s: &RenderStats) -> PyResult<()> {
+    let (hits, unconfirmed) = (s.hits, s.unconfirmed);
+    if unconfirmed * 4 <= hits {
+        return Ok(());
+    }
+    let msg = format!(
+        "{unconfirmed} of {hits} hit pixels are unconfirmed (no sign change of f within the \
+         precision): f may be infinite or NaN on a region (a division by 0, ln of values \
+         <= 0) or touch 0 without crossing it"
+    );
+    let category = py.get_type::<pyo3::exceptions::PyRuntimeWarning>();
+    PyErr::warn(py, category.as_any(), &std::ffi::CString::new(msg)?, 2)
 }
 
 /// The image and depth of `res` as numpy arrays of shapes `(H, W, 3)` and `(H, W)`.

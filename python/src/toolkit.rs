@@ -22,7 +22,9 @@ pub mod models {
     pub use tracer::models::formula::parse as parse_formula;
     pub use tracer::models::hyperfun::parse_hyperfun;
     pub use tracer::models::vm::parse as parse_vm;
-    pub use tracer::models::{builtin_names, find, format, format_of, from_text, Model, FORMATS};
+    pub use tracer::models::{
+        builtin_names, find, format, format_of, from_text, AnyShape, Model, FORMATS,
+    };
 }
 
 /// Cameras: checks, framing, orbit and zoom.
@@ -32,7 +34,7 @@ pub mod camera {
 
 /// The reliable tracer.
 pub mod render {
-    pub use tracer::render::auto_arith::choose as choose_arith;
+    pub use tracer::render::auto_arith::{choose as choose_arith, Choice};
     pub use tracer::render::bspline_filter::{downsample_render, Filter, Kernel};
     pub use tracer::render::output::{write_depth, write_png};
     pub use tracer::render::{render_kind, Progress, RenderOptions, RenderResult, RenderStats};
