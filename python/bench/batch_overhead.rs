@@ -62,13 +62,16 @@ fn main() -> Result<(), String> {
     let blo: Vec<f64> = centres.iter().map(|c| c - HALF_SIDE).collect();
     let bhi: Vec<f64> = centres.iter().map(|c| c + HALF_SIDE).collect();
     let never = AtomicBool::new(false);
+    // In the order of the Python side: every call of one batch, then the next batch.
     for _ in 0..reps {
         let t = Instant::now();
         let mut out = vec![0.0; points];
         batch::eval_points(&model.shape, &xyz, &mut out, &never);
         println!("points {}", t.elapsed().as_secs_f64());
         std::hint::black_box(&out);
-        for &k in &kinds {
+    }
+    for &k in &kinds {
+        for _ in 0..reps {
             let t = Instant::now();
             let mut out = vec![0.0; 2 * boxes];
             batch::eval_boxes_kind(k, &model.shape, &blo, &bhi, &mut out, &never);

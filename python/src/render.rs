@@ -63,7 +63,10 @@ type RenderArrays<'py> = (
     fov=None, ortho=None, domain=None, eps=None, culling=true, pruning=true,
     specialise=true, shadows=false, aa=1, filter="quadratic", threads=None,
     progress=None, device="cpu"
-))]
+), text_signature = "(shape, size=(640, 480), camera=None, arith='auto', *, eye=None, \
+    look_at=None, up=None, fov=None, ortho=None, domain=None, eps=None, culling=True, \
+    pruning=True, specialise=True, shadows=False, aa=1, filter='quadratic', threads=None, \
+    progress=None, device='cpu')")]
 #[allow(clippy::too_many_arguments)]
 pub fn render<'py>(
     py: Python<'py>,

@@ -30,6 +30,11 @@ type Corners = ((f64, f64, f64), (f64, f64, f64));
 /// built-in model (``tracer.models()`` lists them). A reader's error raises
 /// :class:`ModelError` (a ``ValueError``) with its ``line`` and ``column``.
 ///
+/// ``shape(x, y, z)`` evaluates at floats, or over values of one number type
+/// (``Interval``, ``RevAffine``, ...; floats mixed in are constants) and returns that
+/// type; ``range``, ``eval`` and ``eval_boxes`` evaluate over a box, and over numpy
+/// batches of points and boxes.
+///
 /// >>> ball = Shape("1 - x^2 - y^2 - z^2")
 /// >>> ball(0.5, 0, 0)
 /// 0.75
