@@ -25,11 +25,13 @@ SCALE = float(os.environ.get("TRACER_EXAMPLE_SCALE", "1"))
 OUT = os.environ.get("TRACER_EXAMPLE_OUT", "notebook.png")
 
 # %% [markdown]
-# A torus blended with a ball (`f >= 0` inside), over the default domain `[-2, 2]^3`.
+# The union of a torus and a ball (`f >= 0` inside), in a domain that holds it tightly
+# (the default camera frames the domain).
 
 # %%
 shape = tracer.Shape(
-    "t = 0.2 - (1.1 - sqrt(x^2 + z^2))^2 - y^2; b = 0.5 - x^2 - (y - 0.4)^2 - z^2; max(t, b)"
+    "t = 0.16 - (1 - sqrt(x^2 + z^2))^2 - y^2; b = 0.36 - x^2 - (y - 0.5)^2 - z^2; max(t, b)",
+    domain=((-1.5, -0.6, -1.5), (1.5, 1.2, 1.5)),
 )
 print(shape.domain)
 
@@ -79,7 +81,10 @@ ax.imshow(np.where(np.isfinite(depth), depth, np.nan), cmap="viridis")
 ax.axis("off")
 ax = fig.add_subplot(1, 4, 4, projection="3d")
 ax.set_title("mesh")
-ax.add_collection3d(Poly3DCollection(vertices[triangles], facecolor="tan", edgecolor="k", linewidth=0.05))
+# The model's y is up: matplotlib's z.
+ax.add_collection3d(
+    Poly3DCollection(vertices[:, [0, 2, 1]][triangles], facecolor="tan", edgecolor="k", linewidth=0.05)
+)
 ax.set_xlim(-1.5, 1.5)
 ax.set_ylim(-1.5, 1.5)
 ax.set_zlim(-1.5, 1.5)

@@ -15,6 +15,8 @@ import sys
 import tracer
 
 DEFAULT_FORMULA = "0.16 - (1 - sqrt(x^2 + z^2))^2 - y^2 + 0.04*sin(6*x)*sin(6*z)"
+# A box that holds the default formula's surface tightly (the camera frames the domain).
+DEFAULT_DOMAIN = ((-1.5, -0.7, -1.5), (1.5, 0.7, 1.5))
 
 
 def render_frame(shape, k, frames, size, out_dir):
@@ -62,7 +64,7 @@ def main(argv=None):
     from dask.distributed import Client, LocalCluster
 
     if a.model is None:
-        shape = tracer.Shape(a.formula or DEFAULT_FORMULA)
+        shape = tracer.Shape(DEFAULT_FORMULA, domain=DEFAULT_DOMAIN) if a.formula is None else tracer.Shape(a.formula)
     elif a.model in tracer.models():
         shape = tracer.Shape.builtin(a.model)
     else:
