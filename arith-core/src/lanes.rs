@@ -283,7 +283,11 @@ pub trait Isa: Copy + Send + Sync + 'static {
     fn div_up(self, a: Self::V, b: Self::V) -> Self::V {
         let zero = self.eq(b, self.splat(0.0));
         let q = self.div_up_raw(a, b);
-        self.select(self.or(zero, self.unord(q, q)), self.splat(f64::INFINITY), q)
+        self.select(
+            self.or(zero, self.unord(q, q)),
+            self.splat(f64::INFINITY),
+            q,
+        )
     }
     /// Floor of `a / b`, `-inf` where undefined (`b == 0` included).
     #[inline(always)]

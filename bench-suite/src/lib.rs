@@ -8,6 +8,8 @@
 //! - [`progressive`]: the progressive-refinement paper's Table 1 and Fig. 9.
 //! - [`formulas`]: random formulas over random boxes, each arithmetic against intervals
 //!   and revised affine forms.
+//! - [`kernel`]: the cost of one tape instruction per lane of batched evaluation, by
+//!   arithmetic and lane path (AVX-512, AVX2, emulated).
 //! - [`gm_study`]: why our Mitchell counts differ from the paper's, one factor at a time.
 //! - [`fig10`]: that paper's Fig. 10, a landscape refined with a region of interest.
 //! - [`scaling`]: cost as the resolution doubles, with and without culling.
@@ -22,6 +24,7 @@ pub mod counter;
 pub mod fig10;
 pub mod formulas;
 pub mod gm_study;
+pub mod kernel;
 pub mod paper;
 pub mod progressive;
 pub mod scaling;

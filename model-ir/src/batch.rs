@@ -132,14 +132,7 @@ impl Tape {
 
     /// [`Tape::eval_batch`] on the lane path `path` (a path this processor lacks runs
     /// emulated; types without a kernel ignore the path).
-    pub fn eval_batch_on<R: Real>(
-        &self,
-        path: Path,
-        x: &[R],
-        y: &[R],
-        z: &[R],
-        out: &mut Vec<R>,
-    ) {
+    pub fn eval_batch_on<R: Real>(&self, path: Path, x: &[R], y: &[R], z: &[R], out: &mut Vec<R>) {
         let n = x.len();
         assert!(
             y.len() == n && z.len() == n,
@@ -157,26 +150,39 @@ impl Tape {
                 let i: &Interval = cast_ref(&v[l]);
                 (i.lo, i.hi)
             };
-            self.batch_intervals(path, n, |q, l| lane([x, y, z][q], l), |l, o| {
-                out.push(cast(Interval { lo: o.0[l], hi: o.1[l] }))
-            });
+            self.batch_intervals(
+                path,
+                n,
+                |q, l| lane([x, y, z][q], l),
+                |l, o| {
+                    out.push(cast(Interval {
+                        lo: o.0[l],
+                        hi: o.1[l],
+                    }))
+                },
+            );
         } else if id == TypeId::of::<IntervalX4>() {
             let lane = |v: &[R], l: usize| {
                 let p: &IntervalX4 = cast_ref(&v[l / 4]);
                 (p.lo.to_array()[l % 4], p.hi.to_array()[l % 4])
             };
             let mut lanes = ([0.0; 4], [0.0; 4]);
-            self.batch_intervals(path, 4 * n, |q, l| lane([x, y, z][q], l), |l, o| {
-                lanes.0[l % 4] = o.0[l];
-                lanes.1[l % 4] = o.1[l];
-                if l % 4 == 3 {
-                    let p = IntervalX4 {
-                        lo: f64x4::new(lanes.0),
-                        hi: f64x4::new(lanes.1),
-                    };
-                    out.push(cast(p));
-                }
-            });
+            self.batch_intervals(
+                path,
+                4 * n,
+                |q, l| lane([x, y, z][q], l),
+                |l, o| {
+                    lanes.0[l % 4] = o.0[l];
+                    lanes.1[l % 4] = o.1[l];
+                    if l % 4 == 3 {
+                        let p = IntervalX4 {
+                            lo: f64x4::new(lanes.0),
+                            hi: f64x4::new(lanes.1),
+                        };
+                        out.push(cast(p));
+                    }
+                },
+            );
         } else {
             self.batch_generic(x, y, z, out);
         }
@@ -197,7 +203,9 @@ impl Tape {
         regfile::with_file(slots.count * chunks, 3 * chunks, |file, inputs| {
             for (q, v) in src.iter().enumerate() {
                 for j in 0..chunks {
-                    let block = core::array::from_fn(|l| *cast_ref::<R, f64>(&v[(j * LANES + l).min(n - 1)]));
+                    let block = core::array::from_fn(|l| {
+                        *cast_ref::<R, f64>(&v[(j * LANES + l).min(n - 1)])
+                    });
                     inputs[q * chunks + j] = F64x8(block);
                 }
             }

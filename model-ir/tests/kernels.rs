@@ -137,7 +137,9 @@ fn special_bounds_are_redone_exactly() {
             [a, b, (0.5, 0.75)]
         })
         .collect();
-    run("kernel special bounds", cases(64), e, |e| check_intervals(&e, &bs));
+    run("kernel special bounds", cases(64), e, |e| {
+        check_intervals(&e, &bs)
+    });
 }
 
 /// The exact value at random points of each box lies in the batched range, on every
@@ -251,7 +253,10 @@ fn pack_batches_match_pack_evaluation() {
                 for (k, o) in out.iter().enumerate() {
                     let one = t.eval(px[k], py[k], pz[k]).unpack();
                     for (a, b) in o.unpack().iter().zip(&one) {
-                        prop_assert!(agrees(path, a.bounds(), b.bounds()), "{path}: {a:?} vs {b:?}");
+                        prop_assert!(
+                            agrees(path, a.bounds(), b.bounds()),
+                            "{path}: {a:?} vs {b:?}"
+                        );
                     }
                 }
             }
@@ -266,7 +271,9 @@ fn pack_batches_match_pack_evaluation() {
 #[test]
 fn repeated_batches_agree() {
     let t = Tape::record(|x, y, z| (x.sqr() + y * z).sqrt() - 1.0);
-    let x: Vec<Interval> = (0..100).map(|k| Interval::new(k as f64, k as f64 + 1.0)).collect();
+    let x: Vec<Interval> = (0..100)
+        .map(|k| Interval::new(k as f64, k as f64 + 1.0))
+        .collect();
     let (mut a, mut b) = (Vec::new(), Vec::new());
     t.eval_batch(&x, &x, &x, &mut a);
     t.eval_batch(&x, &x, &x, &mut b);

@@ -199,11 +199,7 @@ fn batches_match_single_evaluations() {
                 ("ia", _) => a == b,
                 _ => same(a.0, b.0) && same(a.1, b.1),
             };
-            prop_assert!(
-                ok,
-                "{}: {a:?} vs {b:?}",
-                R::NAME
-            );
+            prop_assert!(ok, "{}: {a:?} vs {b:?}", R::NAME);
         }
         Ok(())
     }

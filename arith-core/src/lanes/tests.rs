@@ -207,10 +207,16 @@ fn emulated_sqrt_is_floor_and_ceiling() {
         // in their sign).
         let s = if x < 1e-250 { 2f64.powi(500) } else { 1.0 };
         let (l, h, xs) = (lo * s, hi * s, x * s * s);
-        assert!(l.mul_add(l, -xs) <= 0.0 && h.mul_add(h, -xs) >= 0.0, "{x:e}");
+        assert!(
+            l.mul_add(l, -xs) <= 0.0 && h.mul_add(h, -xs) >= 0.0,
+            "{x:e}"
+        );
     }
     assert_eq!((sqrt_lo(4.0), sqrt_hi(4.0)), (2.0, 2.0));
-    assert_eq!((sqrt_lo(-1.0), sqrt_hi(-1.0)), (f64::NEG_INFINITY, f64::INFINITY));
+    assert_eq!(
+        (sqrt_lo(-1.0), sqrt_hi(-1.0)),
+        (f64::NEG_INFINITY, f64::INFINITY)
+    );
     assert_eq!((sqrt_lo(f64::INFINITY), sqrt_hi(0.0)), (f64::INFINITY, 0.0));
 }
 
@@ -249,7 +255,10 @@ fn the_environment_picks_a_path() {
 
 #[test]
 fn subnormals_are_kept() {
-    assert!(subnormals_kept(), "flush-to-zero or denormals-are-zero is set");
+    assert!(
+        subnormals_kept(),
+        "flush-to-zero or denormals-are-zero is set"
+    );
     let t = std::hint::black_box(f64::MIN_POSITIVE);
     assert!(t / 2.0 > 0.0);
 }

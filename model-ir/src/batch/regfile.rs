@@ -101,8 +101,8 @@ mod tests {
     fn slots_never_overlap_live_registers() {
         let t = Tape::record(|x, y, z| {
             let a = x.sqr() + y.sqr();
-            let b = (a.clone() + z.sqr()).sqrt();
-            (a * b.clone() - x.clone() * 3.0).max(&(b - y * z)).rsub(1.0)
+            let b = (a + z.sqr()).sqrt();
+            (a * b - x * 3.0).max(&(b - y * z)).rsub(1.0)
         });
         let ins = t.instructions();
         let s = Slots::allocate(ins);
@@ -114,15 +114,14 @@ mod tests {
                 last[i.reg(o) as usize] = k;
             }
         }
-        for (k, i) in ins.iter().enumerate() {
-            for r in 0..k {
-                // Register r is live at k (read at k or later): no other live register
-                // defined after it and before k may share its slot.
-                if last[r] > k && s.slot[r] == s.slot[k] {
-                    panic!("r{k} takes the slot of r{r}, still read at r{}", last[r]);
-                }
+        // A register read after instruction k keeps its slot to itself at k.
+        for k in 0..ins.len() {
+            for (r, &l) in last.iter().enumerate().take(k) {
+                assert!(
+                    l <= k || s.slot[r] != s.slot[k],
+                    "r{k} takes the slot of r{r}, still read at r{l}"
+                );
             }
-            let _ = i;
         }
     }
 }
