@@ -219,7 +219,8 @@ impl Tape {
             };
             dispatch(path, kernel);
             let r = slots.slot[ins.len() - 1] as usize * chunks;
-            out.extend((0..n).map(|l| cast(file[r + l / LANES].0[l % LANES])));
+            let step = usize::from(ins[ins.len() - 1].op != Op::Const);
+            out.extend((0..n).map(|l| cast(file[r + step * (l / LANES)].0[l % LANES])));
         });
     }
 
@@ -253,8 +254,9 @@ impl Tape {
             };
             dispatch(path, kernel);
             let r = 2 * slots.slot[ins.len() - 1] as usize * chunks;
+            let step = usize::from(ins[ins.len() - 1].op != Op::Const);
             for l in 0..n {
-                let j = l / LANES;
+                let j = step * (l / LANES);
                 put(l % LANES, (&file[r + 2 * j].0, &file[r + 2 * j + 1].0));
             }
         });

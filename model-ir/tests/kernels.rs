@@ -279,3 +279,33 @@ fn repeated_batches_agree() {
     t.eval_batch(&x, &x, &x, &mut b);
     assert_eq!(a, b);
 }
+
+/// A constant read for the last time by an instruction over several blocks: its one
+/// block must survive until every block of the result is written.
+#[test]
+fn constants_last_read_across_blocks() {
+    let t = Tape::record(|x, y, _z| x.max(&Real::constant(0.5)) * y.min(&Real::constant(-0.25)));
+    let x: Vec<Interval> = (0..40)
+        .map(|k| Interval::new(k as f64 / 40.0, 1.0))
+        .collect();
+    let p: Vec<f64> = (0..40).map(|k| k as f64 / 40.0 - 0.5).collect();
+    for path in paths() {
+        let mut out = Vec::new();
+        t.eval_batch_on(path, &x, &x, &x, &mut out);
+        for (l, o) in out.iter().enumerate() {
+            assert!(
+                agrees(path, o.bounds(), t.eval(x[l], x[l], x[l]).bounds()),
+                "{path} {l}"
+            );
+        }
+        let mut out = Vec::new();
+        t.eval_batch_on(path, &p, &p, &p, &mut out);
+        for (l, o) in out.iter().enumerate() {
+            assert_eq!(
+                o.to_bits(),
+                t.eval(p[l], p[l], p[l]).to_bits(),
+                "{path} {l}"
+            );
+        }
+    }
+}

@@ -207,6 +207,9 @@ impl Kernel for Intervals<'_> {
         for (k, i) in ins.iter().enumerate() {
             let at = |r: u32| 2 * slot[r as usize] as usize * ch;
             let (o, a, b, e) = (at(k as u32), at(i.a), at(i.b), at(i.e));
+            // A constant's register holds its first block only (the same in every lane).
+            let step = |r: u32| 2 * usize::from(ins[r as usize].op != Op::Const);
+            let (sa, sb, se) = (step(i.a), step(i.b), step(i.e));
             let c = i.c;
             let cv = s.splat(c);
             let finite_nonzero = c.is_finite() && c != 0.0;
@@ -216,7 +219,7 @@ impl Kernel for Intervals<'_> {
             macro_rules! op {
                 (|$x:ident, $y:ident, $z:ident| $body:expr) => {
                     for j in 0..ch {
-                        let at = [a + 2 * j, b + 2 * j, e + 2 * j];
+                        let at = [a + sa * j, b + sb * j, e + se * j];
                         let ld = |k: usize| (s.load(&file[k]), s.load(&file[k + 1]));
                         #[allow(unused_variables)]
                         let ($x, $y, $z): (P<I>, P<I>, P<I>) = (ld(at[0]), ld(at[1]), ld(at[2]));
@@ -243,10 +246,8 @@ impl Kernel for Intervals<'_> {
                 }
                 Op::Const => {
                     let p = Interval::point(c);
-                    for j in 0..ch {
-                        file[o + 2 * j] = F64x8::splat(p.lo);
-                        file[o + 2 * j + 1] = F64x8::splat(p.hi);
-                    }
+                    file[o] = F64x8::splat(p.lo);
+                    file[o + 1] = F64x8::splat(p.hi);
                 }
                 Op::Neg => op!(|x, y, z| ((s.neg(x.1), s.neg(x.0)), ok)),
                 Op::Sqr => op!(|x, y, z| (powi_pos(s, x, 2), ok)),

@@ -59,11 +59,14 @@ impl Kernel for Points<'_> {
             let a = slot[i.a as usize] as usize * ch;
             let b = slot[i.b as usize] as usize * ch;
             let e = slot[i.e as usize] as usize * ch;
+            // A constant's register holds its first block only (the same in every lane).
+            let step = |r: u32| usize::from(ins[r as usize].op != Op::Const);
+            let (sa, sb, se) = (step(i.a), step(i.b), step(i.e));
             let c = s.splat(i.c);
             macro_rules! un {
                 (|$x:ident| $body:expr) => {
                     for j in 0..ch {
-                        let $x = s.load(&file[a + j]);
+                        let $x = s.load(&file[a + sa * j]);
                         file[o + j] = s.store($body);
                     }
                 };
@@ -71,7 +74,7 @@ impl Kernel for Points<'_> {
             macro_rules! bin {
                 (|$x:ident, $y:ident| $body:expr) => {
                     for j in 0..ch {
-                        let ($x, $y) = (s.load(&file[a + j]), s.load(&file[b + j]));
+                        let ($x, $y) = (s.load(&file[a + sa * j]), s.load(&file[b + sb * j]));
                         file[o + j] = s.store($body);
                     }
                 };
@@ -85,7 +88,7 @@ impl Kernel for Points<'_> {
                     };
                     file[o..o + ch].copy_from_slice(&inputs[src..src + ch]);
                 }
-                Op::Const => file[o..o + ch].fill(F64x8::splat(i.c)),
+                Op::Const => file[o] = F64x8::splat(i.c),
                 Op::Neg => un!(|x| s.neg(x)),
                 Op::Sqr => un!(|x| s.mul(x, x)),
                 Op::Sqrt => un!(|x| real_sqrt(s, x)),
@@ -115,15 +118,15 @@ impl Kernel for Points<'_> {
                 Op::Select => {
                     let half = s.splat(0.5);
                     for j in 0..ch {
-                        let m = s.lt(half, s.load(&file[a + j]));
-                        let (t, f) = (s.load(&file[b + j]), s.load(&file[e + j]));
+                        let m = s.lt(half, s.load(&file[a + sa * j]));
+                        let (t, f) = (s.load(&file[b + sb * j]), s.load(&file[e + se * j]));
                         file[o + j] = s.store(s.select(m, t, f));
                     }
                 }
                 // Lane by lane through the scalar operation.
                 _ => {
                     for j in 0..ch {
-                        let (x, y, z) = (file[a + j], file[b + j], file[e + j]);
+                        let (x, y, z) = (file[a + sa * j], file[b + sb * j], file[e + se * j]);
                         let r = core::array::from_fn(|l| apply(i, x.0[l], y.0[l], z.0[l]));
                         file[o + j] = F64x8(r);
                     }

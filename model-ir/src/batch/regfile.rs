@@ -5,9 +5,11 @@
 //! allocates nothing once the thread has warmed up.
 //!
 //! An instruction's result may take the slot of an operand read for the last time: the
-//! kernels read each block of their operands before they write that block.
+//! kernels read each block of their operands before they write that block. A constant's
+//! register holds one block (the same value in every lane), read for every block of its
+//! readers, so no reader's result takes a constant's slot.
 
-use crate::instr::Instr;
+use crate::instr::{Instr, Op};
 use arith_core::lanes::F64x8;
 use std::cell::RefCell;
 
@@ -27,10 +29,17 @@ impl Slots {
         let mut free: Vec<u32> = Vec::new();
         let mut count = 0u32;
         for i in ins {
+            // A constant's slot is freed after the result's is taken: a constant holds
+            // one block that every block of the result reads, so the result must not
+            // overwrite it.
+            let mut late = [None; 3];
             for &k in i.operands() {
                 if i.last & (1 << k) != 0 {
-                    let s = slot[i.reg(k) as usize];
-                    if !free.contains(&s) {
+                    let r = i.reg(k) as usize;
+                    let s = slot[r];
+                    if ins[r].op == Op::Const {
+                        late[k] = Some(s);
+                    } else if !free.contains(&s) {
                         free.push(s);
                     }
                 }
@@ -40,6 +49,11 @@ impl Slots {
                 count - 1
             });
             slot.push(s);
+            for s in late.into_iter().flatten() {
+                if !free.contains(&s) {
+                    free.push(s);
+                }
+            }
         }
         Slots {
             slot,
