@@ -161,7 +161,7 @@ enum Cmd {
         /// Folder holding bear.vm and colonnade.vm (default: the fidget peer's models).
         #[arg(long)]
         models: Option<PathBuf>,
-        /// Comma-separated lanes per batch (multiples of 8).
+        /// Comma-separated lanes per batch (multiples of 4: the RevAA, RAA* and Hull packs).
         #[arg(long, default_value = "64,512")]
         batches: String,
         /// Milliseconds per configuration and round.
