@@ -20,6 +20,8 @@
 //!   of every non-affine function on `[a, b]`, used by all affine arithmetics.
 //! - [`round`]: rounding helpers (outward rounding with `next_up`/`next_down`, error-free
 //!   transformations), never changing the FPU rounding mode.
+//! - [`lanes`] (feature `simd`): eight `f64` lanes with directed rounding through
+//!   AVX-512, AVX2 or emulation, chosen once at start-up, for batched kernels.
 //! - [`rfunc`]: R-function set operations and the paper's blends, written once.
 //! - [`branch`]: comparisons and selections ([`Real::step`], [`Real::select`]), sound
 //!   over ranges and carried through dual numbers.
@@ -58,13 +60,17 @@
 //! assert!(lo <= v && v <= hi && ilo <= v && v <= ihi);
 //! ```
 
-#![forbid(unsafe_code)]
+// `unsafe` is denied everywhere but in `lanes`' x86 module (the AVX-512 intrinsics and
+// the target-feature functions), where each use states why it is sound.
+#![deny(unsafe_code)]
 #![warn(missing_docs)]
 
 pub mod affine_round;
 pub mod approx;
 pub mod branch;
 pub mod dual;
+#[cfg(feature = "simd")]
+pub mod lanes;
 pub mod pack;
 pub mod reduced;
 pub mod rfunc;

@@ -247,8 +247,10 @@ impl Real for f64 {
     fn powi(&self, n: i32) -> Self {
         f64::powi(*self, n)
     }
+    /// The root of `x` where `x > 0`, else `+0` (NaN, negative numbers and both
+    /// zeros), so that every evaluation path gives the same bits.
     fn sqrt(&self) -> Self {
-        f64::sqrt(f64::max(*self, 0.0))
+        f64::sqrt(if *self > 0.0 { *self } else { 0.0 })
     }
     fn recip(&self) -> Self {
         1.0 / self

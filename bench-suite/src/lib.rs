@@ -9,6 +9,8 @@
 //!   previewer's benchmark rows ([`gm_rows`]).
 //! - [`formulas`]: random formulas over random boxes, each arithmetic against intervals
 //!   and revised affine forms.
+//! - [`kernel`]: the cost of one tape instruction per lane of batched evaluation, by
+//!   arithmetic and lane path (AVX-512, AVX2, emulated).
 //! - [`gm_study`]: why our Mitchell counts differ from the paper's, one factor at a time.
 //! - [`fig10`]: that paper's Fig. 10, a landscape refined with a region of interest.
 //! - [`scaling`]: cost as the resolution doubles, with and without culling.
@@ -25,6 +27,7 @@ pub mod formulas;
 pub mod gm_rows;
 pub mod gm_study;
 pub mod gm_table1;
+pub mod kernel;
 pub mod paper;
 pub mod scaling;
 pub mod scenes;

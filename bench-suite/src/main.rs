@@ -8,11 +8,14 @@
 //! bench-suite progressive [--size N] [--models a,b] [--layers L] [--rounds N]
 //!                         [--methods a,b] [--out DIR]
 //! bench-suite formulas [--formulas N] [--depth D] [--seed S] [--arith ...] [--out DIR]
+//! bench-suite kernel --json [--models DIR] [--batches 64,512] [--millis MS] [--rounds N]
 //! bench-suite scenes [--sizes 10,100,1000,10000] [--pixels N] [--joins max,union]
 //!                     [--paper-pixels N] [--rounds N] [--budget SECONDS] [--out DIR]
 //! ```
 
-use bench_suite::{fig10, formulas, gm_study, gm_table1, scaling, scenes, table1, tightness};
+use bench_suite::{
+    fig10, formulas, gm_study, gm_table1, kernel, scaling, scenes, table1, tightness,
+};
 use clap::{Parser, Subcommand};
 use model_sources::PaperModel;
 use std::path::PathBuf;
@@ -147,6 +150,26 @@ enum Cmd {
         /// Output folder (the default is where the README's figure lives).
         #[arg(long, default_value = "docs/progressive")]
         out: PathBuf,
+    },
+    /// Cost of one tape instruction per lane of batched evaluation, by arithmetic and
+    /// lane path (avx512, avx2, emulated), on fidget's bear and colonnade: one JSON
+    /// object on standard output.
+    Kernel {
+        /// Print JSON (the only format).
+        #[arg(long)]
+        json: bool,
+        /// Folder holding bear.vm and colonnade.vm (default: the fidget peer's models).
+        #[arg(long)]
+        models: Option<PathBuf>,
+        /// Comma-separated lanes per batch (multiples of 4: the RevAA, RAA* and Hull packs).
+        #[arg(long, default_value = "64,512")]
+        batches: String,
+        /// Milliseconds per configuration and round.
+        #[arg(long, default_value_t = 100)]
+        millis: u64,
+        /// Interleaved rounds; the median is reported.
+        #[arg(long, default_value_t = 3)]
+        rounds: usize,
     },
     /// Our Mitchell counts against the progressive-refinement paper's Table 1, one
     /// set-up factor (bound, precision, camera) changed at a time.
@@ -465,6 +488,29 @@ fn run(cli: Cli) -> Result<(), String> {
                 "wrote {}/fig9.md, fig9.csv, fig9.png, fig9-evals.png",
                 o.out.display()
             );
+            Ok(())
+        }
+        Cmd::Kernel {
+            json: _,
+            models,
+            batches,
+            millis,
+            rounds,
+        } => {
+            let dir = models.unwrap_or_else(kernel::default_models_dir);
+            let mut o = kernel::Options::new(&dir);
+            o.batches = batches
+                .split(',')
+                .map(|b| {
+                    b.trim()
+                        .parse()
+                        .map_err(|_| format!("--batches: '{b}' is not a whole number"))
+                })
+                .collect::<Result<_, _>>()?;
+            o.millis = millis;
+            o.rounds = rounds;
+            let json = kernel::run(&o)?;
+            tracer_kit::out!("{json}");
             Ok(())
         }
         Cmd::GmStudy { size, out } => {

@@ -2,18 +2,35 @@
 //! over all of them (structure of arrays: each register holds one value per lane). The
 //! dispatch on the instruction, the operand lookups and the register traffic are paid
 //! once per instruction and batch, not once per evaluation, and each instruction's loop
-//! over the lanes is a tight loop of one operation. Every lane's result is, bit for bit,
-//! what [`Tape::eval`] gives on that lane's inputs: the same operations on the same
-//! values, and no lane ever reads another's.
+//! over the lanes is a tight loop of one operation.
+//!
+//! Points (`f64`) and intervals ([`Interval`], and its four-lane packs [`IntervalX4`])
+//! run the kernels of this module: eight lanes per instruction of the processor's
+//! fastest path of [`arith_core::lanes`] (AVX-512 with per-instruction rounding, AVX2,
+//! or emulated), over one flat register file per thread ([`regfile`]) that a batch
+//! reuses without allocating. Points are bit for bit what [`Tape::eval`] gives; interval
+//! bounds are the same numbers on the AVX-512 and emulated paths (a zero bound may
+//! differ in sign) and enclose them within an ulp per rounding on the AVX2 path. Every
+//! other type runs the generic loop below, whose every lane is, bit for bit, what
+//! [`Tape::eval`] gives on that lane's inputs.
 //!
 //! Lanes may themselves be SIMD packs ([`arith_core::pack::Pack`]: four ray forms in
 //! one value), so a batch of `n` packs evaluates `4 n` ray segments.
 
+mod intervals;
+mod points;
+mod regfile;
+
+pub(crate) use regfile::Slots;
+
 use crate::instr::{Instr, Op};
 use crate::tape::Tape;
 use arith_core::branch::Step;
+use arith_core::lanes::{dispatch, F64x8, Path, LANES};
+use arith_core::simd::f64x4;
 use arith_core::{rfunc, Real};
-use std::any::Any;
+use arith_ia::{Interval, IntervalX4};
+use std::any::{Any, TypeId};
 use std::cell::RefCell;
 
 thread_local! {
@@ -91,8 +108,9 @@ fn zip<R: Real>(
 
 impl Tape {
     /// Evaluates the tape on every lane `l` of the inputs, `(x[l], y[l], z[l])`, into
-    /// `out` (cleared first): `out[l]` is bit for bit `self.eval(x[l], y[l], z[l])`.
-    /// The three slices have the same length.
+    /// `out` (cleared first), on this process's lane path ([`Path::current`]): `out[l]`
+    /// encloses `self.eval(x[l], y[l], z[l])` (see the [module](crate::batch) for how
+    /// exactly on each path). The three slices have the same length.
     ///
     /// ```
     /// use arith_core::{Range, Real};
@@ -104,10 +122,17 @@ impl Tape {
     /// let mut out = Vec::new();
     /// t.eval_batch(&xs, &zero, &zero, &mut out);
     /// for (o, x) in out.iter().zip(&xs) {
-    ///     assert_eq!(o.bounds(), t.eval(*x, zero[0], zero[0]).bounds());
+    ///     let (lo, hi) = t.eval(*x, zero[0], zero[0]).bounds();
+    ///     assert!(o.lo <= lo && hi <= o.hi);
     /// }
     /// ```
     pub fn eval_batch<R: Real>(&self, x: &[R], y: &[R], z: &[R], out: &mut Vec<R>) {
+        self.eval_batch_on(Path::current(), x, y, z, out)
+    }
+
+    /// [`Tape::eval_batch`] on the lane path `path` (a path this processor lacks runs
+    /// emulated; types without a kernel ignore the path).
+    pub fn eval_batch_on<R: Real>(&self, path: Path, x: &[R], y: &[R], z: &[R], out: &mut Vec<R>) {
         let n = x.len();
         assert!(
             y.len() == n && z.len() == n,
@@ -117,6 +142,128 @@ impl Tape {
         if n == 0 {
             return;
         }
+        let id = TypeId::of::<R>();
+        if id == TypeId::of::<f64>() {
+            self.batch_points(path, [x, y, z], out);
+        } else if id == TypeId::of::<Interval>() {
+            let lane = |v: &[R], l: usize| {
+                let i: &Interval = cast_ref(&v[l]);
+                (i.lo, i.hi)
+            };
+            self.batch_intervals(
+                path,
+                n,
+                |q, l| lane([x, y, z][q], l),
+                |l, o| {
+                    out.push(cast(Interval {
+                        lo: o.0[l],
+                        hi: o.1[l],
+                    }))
+                },
+            );
+        } else if id == TypeId::of::<IntervalX4>() {
+            let lane = |v: &[R], l: usize| {
+                let p: &IntervalX4 = cast_ref(&v[l / 4]);
+                (p.lo.to_array()[l % 4], p.hi.to_array()[l % 4])
+            };
+            let mut lanes = ([0.0; 4], [0.0; 4]);
+            self.batch_intervals(
+                path,
+                4 * n,
+                |q, l| lane([x, y, z][q], l),
+                |l, o| {
+                    lanes.0[l % 4] = o.0[l];
+                    lanes.1[l % 4] = o.1[l];
+                    if l % 4 == 3 {
+                        let p = IntervalX4 {
+                            lo: f64x4::new(lanes.0),
+                            hi: f64x4::new(lanes.1),
+                        };
+                        out.push(cast(p));
+                    }
+                },
+            );
+        } else {
+            self.batch_generic(x, y, z, out);
+        }
+    }
+
+    /// The register slots of the batch kernels.
+    fn slots(&self) -> &Slots {
+        self.shared()
+            .slots
+            .get_or_init(|| Slots::allocate(self.instructions()))
+    }
+
+    /// The point kernel over `f64` lanes.
+    fn batch_points<R: Real>(&self, path: Path, src: [&[R]; 3], out: &mut Vec<R>) {
+        let n = src[0].len();
+        let chunks = n.div_ceil(LANES);
+        let slots = self.slots();
+        regfile::with_file(slots.count * chunks, 3 * chunks, |file, inputs| {
+            for (q, v) in src.iter().enumerate() {
+                for j in 0..chunks {
+                    let block = core::array::from_fn(|l| {
+                        *cast_ref::<R, f64>(&v[(j * LANES + l).min(n - 1)])
+                    });
+                    inputs[q * chunks + j] = F64x8(block);
+                }
+            }
+            let ins = self.instructions();
+            let kernel = points::Points {
+                ins,
+                slots,
+                file,
+                inputs,
+                chunks,
+            };
+            dispatch(path, kernel);
+            let r = slots.slot[ins.len() - 1] as usize * chunks;
+            let step = usize::from(ins[ins.len() - 1].op != Op::Const);
+            out.extend((0..n).map(|l| cast(file[r + step * (l / LANES)].0[l % LANES])));
+        });
+    }
+
+    /// The interval kernel over `n` lanes, lane `l` of input `q` from `lane(q, l)`; each
+    /// result lane `l` handed to `put(l % 8, block)` in order.
+    fn batch_intervals(
+        &self,
+        path: Path,
+        n: usize,
+        lane: impl Fn(usize, usize) -> (f64, f64),
+        mut put: impl FnMut(usize, (&[f64; LANES], &[f64; LANES])),
+    ) {
+        let chunks = n.div_ceil(LANES);
+        let slots = self.slots();
+        regfile::with_file(2 * slots.count * chunks, 6 * chunks, |file, inputs| {
+            for q in 0..3 {
+                for j in 0..chunks {
+                    let v: [(f64, f64); LANES] =
+                        core::array::from_fn(|l| lane(q, (j * LANES + l).min(n - 1)));
+                    inputs[2 * (q * chunks + j)] = F64x8(v.map(|b| b.0));
+                    inputs[2 * (q * chunks + j) + 1] = F64x8(v.map(|b| b.1));
+                }
+            }
+            let ins = self.instructions();
+            let kernel = intervals::Intervals {
+                ins,
+                slots,
+                file,
+                inputs,
+                chunks,
+            };
+            dispatch(path, kernel);
+            let r = 2 * slots.slot[ins.len() - 1] as usize * chunks;
+            let step = usize::from(ins[ins.len() - 1].op != Op::Const);
+            for l in 0..n {
+                let j = step * (l / LANES);
+                put(l % LANES, (&file[r + 2 * j].0, &file[r + 2 * j + 1].0));
+            }
+        });
+    }
+
+    /// The generic loop: one vector of values per register.
+    fn batch_generic<R: Real>(&self, x: &[R], y: &[R], z: &[R], out: &mut Vec<R>) {
         let ins = self.instructions();
         let spare = take_spare::<R>();
         let mut regs = Regs {
@@ -138,6 +285,22 @@ impl Tape {
         }
         give_spare(spare);
     }
+}
+
+/// `v` as the type `R` that it is (checked by the caller's `TypeId` test).
+fn cast<T: 'static, R: 'static>(v: T) -> R {
+    let mut o = Some(v);
+    (&mut o as &mut dyn Any)
+        .downcast_mut::<Option<R>>()
+        .and_then(Option::take)
+        .expect("kernel type checked by TypeId")
+}
+
+/// `v` as the type `T` that it is (checked by the caller's `TypeId` test).
+fn cast_ref<R: 'static, T: 'static>(v: &R) -> &T {
+    (v as &dyn Any)
+        .downcast_ref::<T>()
+        .expect("kernel type checked by TypeId")
 }
 
 /// The lanes of instruction `i`.

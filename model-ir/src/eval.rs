@@ -127,6 +127,47 @@ fn run_f64(ins: &[Instr], regs: &mut [f64], x: f64, y: f64, z: f64) -> f64 {
     regs[ins.len() - 1]
 }
 
+/// One instruction on operand values `a`, `b`, `e` (those it does not read are ignored),
+/// with the operations of [`run`]: the batch kernels' lane-by-lane path.
+#[inline]
+pub(crate) fn apply<R: Real>(i: &Instr, a: R, b: R, e: R) -> R {
+    match i.op {
+        Op::X | Op::Y | Op::Z => unreachable!("inputs are not operations"),
+        Op::Const => R::constant(i.c),
+        Op::Neg => -a,
+        Op::Sqr => a.sqr(),
+        Op::Powi => a.powi(i.n),
+        Op::Sqrt => a.sqrt(),
+        Op::Exp => a.exp(),
+        Op::Ln => a.ln(),
+        Op::Sin => a.sin(),
+        Op::Cos => a.cos(),
+        Op::Abs => a.abs(),
+        Op::Recip => a.recip(),
+        Op::AddC => a + i.c,
+        Op::SubC => a - i.c,
+        Op::RSubC => a.rsub(i.c),
+        Op::MulC => a * i.c,
+        Op::DivC => a / i.c,
+        Op::RDivC => a.rdiv(i.c),
+        Op::Add => a + b,
+        Op::Sub => a - b,
+        Op::Mul => a * b,
+        Op::Div => a / b,
+        Op::Hypot => a.hypot(&b),
+        Op::Min => a.min(&b),
+        Op::Max => a.max(&b),
+        Op::Intersect => rfunc::intersect(a, b),
+        Op::Union => rfunc::union(a, b),
+        Op::Subtract => rfunc::subtract(a, b),
+        Op::BlendUnion => rfunc::blend_union(a, b),
+        Op::BlendIntersect => rfunc::blend_intersect(a, b),
+        Op::Gt0 => a.step(Step::Pos),
+        Op::Ge0 => a.step(Step::NonNeg),
+        Op::Select => a.select(b, e),
+    }
+}
+
 /// The generic interpreter; `seen(k, v)` is told each register's value as it is
 /// computed (a no-op for plain evaluation, compiled away).
 pub(crate) fn run<R: Real>(

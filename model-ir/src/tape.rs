@@ -43,6 +43,8 @@ pub(crate) struct Shared {
     pub(crate) rules: OnceLock<Specialiser>,
     /// Specialised tapes by decisions (`None`: no shorter than this one).
     pub(crate) cache: Mutex<HashMap<Vec<u8>, Option<Tape>>>,
+    /// The batch kernels' register slots ([`crate::batch`]), built on first use.
+    pub(crate) slots: OnceLock<crate::batch::Slots>,
 }
 
 impl Builder {
