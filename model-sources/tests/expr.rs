@@ -497,9 +497,10 @@ fn constant_zero_divisors_and_ln_domain() {
     assert!(compile(&p).is_ok());
 }
 
-/// The one text of the language names every function and operator, and is the README's.
+/// The one text of the language names every function and operator, and is the one its
+/// documentation page shows.
 #[test]
-fn syntax_text_is_complete_and_in_the_readme() {
+fn syntax_text_is_complete_and_in_its_page() {
     for f in Func::ALL {
         assert!(SYNTAX.contains(f.name()), "{}", f.name());
     }
@@ -509,10 +510,10 @@ fn syntax_text_is_complete_and_in_the_readme() {
     for w in ["^", "#", "name = expr;", "x  y  z"] {
         assert!(SYNTAX.contains(w), "{w}");
     }
-    let readme = include_str!("../../README.md");
+    let page = include_str!("../../docs/formula-language.md");
     assert!(
-        readme.contains(SYNTAX),
-        "README.md lacks the formula language text"
+        page.contains(SYNTAX),
+        "docs/formula-language.md lacks the formula language text"
     );
     // Its example binding parses.
     tape("b = 0.36 - x^2; s = 0.7 - x^2 - y^2; b | s");
