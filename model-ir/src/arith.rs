@@ -74,13 +74,14 @@ arith_list!([define_kinds] {});
 
 /// Runs `$body` with the type alias `$A` bound to the [`arith_core::Arithmetic`] family
 /// selected by `$kind` (an [`ArithKind`]). It names the arithmetic crates through
-/// `tracer`'s re-exports, so it compiles in a crate that depends on `tracer` only.
+/// this crate's re-exports, so it compiles in a crate that depends on `model-ir` (or on
+/// `tracer`, which re-exports it) only.
 ///
 /// ```
-/// use tracer::arith::ArithKind;
+/// use model_ir::arith::ArithKind;
 /// let names: Vec<&str> = ArithKind::ALL
 ///     .iter()
-///     .map(|&k| tracer::with_arith!(k, A => <A as tracer::arith::arith_core::Arithmetic>::NAME))
+///     .map(|&k| model_ir::with_arith!(k, A => <A as model_ir::arith::arith_core::Arithmetic>::NAME))
 ///     .collect();
 /// assert_eq!(names[0], "ia");
 /// ```

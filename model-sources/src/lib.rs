@@ -149,8 +149,8 @@ impl Model {
     /// at the type of its values (procedural noise), which no tape can express.
     ///
     /// ```
-    /// use tracer::shape::Shape;
-    /// let m = tracer::models::find("mitchell").unwrap();
+    /// use model_ir::shape::Shape;
+    /// let m = model_sources::find("mitchell").unwrap();
     /// let t = m.tape().unwrap();
     /// assert_eq!(t.eval(0.3_f64, 0.2, 0.1), m.shape.eval(0.3_f64, 0.2, 0.1));
     /// ```

@@ -18,7 +18,7 @@
 //! an instruction listing (`Display`) or back as a formula ([`ToFormula::to_formula`]).
 //!
 //! ```
-//! use tracer::models::formula::parse;
+//! use model_sources::formula::parse;
 //! let t = parse("s = 1 - x^2 - y^2 - z^2; s & -z").unwrap();
 //! assert!(t.eval(0.0_f64, 0.0, -0.5) > 0.0);
 //! let e = parse("(x + 1").unwrap_err();

@@ -24,9 +24,9 @@
 //!     c = [0, 0, 0];
 //!     my_model = hfSphere(x, c, 1) \\ hfBlock(x, c, 2, 2, 2);
 //! }";
-//! let t = tracer::models::hyperfun::parse_hyperfun(src).unwrap();
+//! let t = model_sources::hyperfun::parse_hyperfun(src).unwrap();
 //! assert!(t.eval(-0.5_f64, -0.5, -0.5) > 0.0 && t.eval(0.5_f64, 0.5, 0.5) < 0.0);
-//! let e = tracer::models::hyperfun::parse_hyperfun("m(x[3], a[1]) { m = hfFoo(x); }").unwrap_err();
+//! let e = model_sources::hyperfun::parse_hyperfun("m(x[3], a[1]) { m = hfFoo(x); }").unwrap_err();
 //! assert_eq!((e.line, e.column), (1, 21));
 //! ```
 
