@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Measurements for the default arithmetic (issue 41, item 3): every built-in model in
+# Measurements for the default arithmetic: every built-in model in
 # its default view and fidget's .vm models in the peer frame (scripts/peer-fidget.sh),
 # rendered in each arithmetic of ARITHS; per model and arithmetic: hits, unconfirmed
 # hits, deterministic work counters and the median render time (`wall_s` of

@@ -232,7 +232,7 @@ which picked X for this model.
   per model, the order flipped every round (fidget, ours, ours, fidget, ...); medians.
 
 Columns: *fidget s* / *ours s*: median whole-process wall time (start to exit, reading
-the model and writing PNG, mask / depth map included); *ours/fidget*: their ratio (goal of issue 41: at most 0.5); *ours/fidget CPU*:
+the model and writing PNG, mask / depth map included); *ours/fidget*: their ratio (goal: at most 0.5); *ours/fidget CPU*:
 the ratio of the medians of user + system seconds (all threads);
 *render s*: the render alone by each tool's own timer (fidget: `voxel::render`; ours:
 the `wall_s` of `--stats json`); *hits*: fraction of pixels hit; *our unconfirmed*: hit

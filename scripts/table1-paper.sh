@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Table 1 at the paper's resolutions (issue 41): renders each Appendix A model with
+# Table 1 at the paper's resolutions: renders each Appendix A model with
 # `tracer render MODEL --size WxH` (its built-in view, our default arithmetic unless
 # ARITH says otherwise) at the resolution of the paper's Table 1 (Fryazinov, Pasko,
 # Comninos 2009; figures in bench-suite/src/paper.rs), times the whole process, best of
@@ -10,7 +10,7 @@
 #   scripts/table1-paper.sh                     # every row, 3 rounds
 #   MODELS="mitchell hair" ROUNDS=1 DOC= scripts/table1-paper.sh
 #
-# Goal (issue 41): at least 200x the paper's RevAA seconds on every row.
+# Goal: at least 200x the paper's RevAA seconds on every row.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 # name  WxH  paper RevAA seconds (Pentium 4, 3.2 GHz, without culling)  label

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Tape-length scaling (issue 41): scenes of N balls whose radii shrink as N^(-1/3)
+# Tape-length scaling: scenes of N balls whose radii shrink as N^(-1/3)
 # (scripts/gen-vm-scenes.py --kinds balls: |p - c|^2 - r^2 joined by a balanced tree of
 # min, fidget's .vm format), each rendered by `tracer render` in the view its header's
 # domain frames, with our default arithmetic unless ARITH says otherwise. Reports per N
@@ -12,7 +12,7 @@
 #   scripts/tape-scaling.sh                       # N = 10 100 1000 10000, 512x512, 3 rounds
 #   NS="10 100" SIZE=256 ROUNDS=1 DOC= scripts/tape-scaling.sh
 #
-# Goal (issue 41): the mean tape length grows at most 2x from the smallest N to the largest.
+# Goal: the mean tape length grows at most 2x from the smallest N to the largest.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 NS=${NS:-"10 100 1000 10000"}

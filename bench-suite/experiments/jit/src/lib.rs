@@ -1,4 +1,4 @@
-//! # tape-jit: an experiment (issue 41, item 2)
+//! # tape-jit: an experiment in compiling tapes
 //!
 //! A [`model_ir::Tape`] compiled with Cranelift to one native function that evaluates it
 //! over a batch of lanes, structure of arrays: [`PointJit`] over `f64` points,
