@@ -36,10 +36,13 @@ pub fn count(mesh: &Mesh) -> u64 {
     let bvh = Bvh::build(&boxes);
     (0..tris.len())
         .into_par_iter()
-        .map(|i| {
+        .map_init(Vec::new, |stack, i| {
             let mut n = 0u64;
-            bvh.query(&boxes[i], &mut |j| {
-                if j > i && intersect(&mesh.triangles[i], &tris[i], &mesh.triangles[j], &tris[j]) {
+            bvh.query(&boxes[i], stack, &mut |j| {
+                if j > i
+                    && overlap(&boxes[i], &boxes[j])
+                    && intersect(&mesh.triangles[i], &tris[i], &mesh.triangles[j], &tris[j])
+                {
                     n += 1;
                 }
             });
@@ -115,12 +118,14 @@ impl Bvh {
         id
     }
 
-    /// Calls `hit` with every triangle whose box overlaps `b`.
-    fn query(&self, b: &(DVec3, DVec3), hit: &mut impl FnMut(usize)) {
+    /// Calls `hit` with every triangle of the leaves whose boxes overlap `b` (`stack`:
+    /// scratch space, reused between queries).
+    fn query(&self, b: &(DVec3, DVec3), stack: &mut Vec<usize>, hit: &mut impl FnMut(usize)) {
         if self.nodes.is_empty() {
             return;
         }
-        let mut stack = vec![0usize];
+        stack.clear();
+        stack.push(0);
         while let Some(n) = stack.pop() {
             let node = &self.nodes[n];
             if !overlap(&node.bounds, b) {
@@ -141,14 +146,25 @@ impl Bvh {
 /// Whether triangles `a` and `b` (indices `ia`, `ib`) intersect other than in the
 /// vertices and edge they share.
 fn intersect(ia: &[u32; 3], a: &[DVec3; 3], ib: &[u32; 3], b: &[DVec3; 3]) -> bool {
-    let shared: Vec<(usize, usize)> = (0..3)
-        .flat_map(|i| (0..3).map(move |j| (i, j)))
-        .filter(|&(i, j)| ia[i] == ib[j])
-        .collect();
+    let mut shared = [(0, 0); 9];
+    let mut n = 0;
+    for (i, va) in ia.iter().enumerate() {
+        for (j, vb) in ib.iter().enumerate() {
+            if va == vb {
+                shared[n] = (i, j);
+                n += 1;
+            }
+        }
+    }
+    let shared = &shared[..n];
     match shared.len() {
-        0 => (0..3).any(|k| {
-            segment_hits(a[k], a[(k + 1) % 3], b) || segment_hits(b[k], b[(k + 1) % 3], a)
-        }),
+        0 => {
+            !one_side(a, b)
+                && !one_side(b, a)
+                && (0..3).any(|k| {
+                    segment_hits(a[k], a[(k + 1) % 3], b) || segment_hits(b[k], b[(k + 1) % 3], a)
+                })
+        }
         1 => {
             let (i, j) = shared[0];
             let far_a = (a[(i + 1) % 3], a[(i + 2) % 3]);
@@ -156,9 +172,19 @@ fn intersect(ia: &[u32; 3], a: &[DVec3; 3], ib: &[u32; 3], b: &[DVec3; 3]) -> bo
             segment_hits_strictly(far_a.0, far_a.1, b, b[j])
                 || segment_hits_strictly(far_b.0, far_b.1, a, a[i])
         }
-        2 => folded(a, b, &shared),
+        2 => folded(a, b, shared),
         _ => true,
     }
+}
+
+/// Whether the vertices of `b` lie strictly on one side of the plane of `a` (then the
+/// triangles do not meet; the signs are those that [`segment_hits`] computes, so only
+/// pairs that touch within rounding, which may go either way, can be decided
+/// differently).
+fn one_side(a: &[DVec3; 3], b: &[DVec3; 3]) -> bool {
+    let n = (a[1] - a[0]).cross(a[2] - a[0]);
+    let d = b.map(|p| n.dot(p - a[0]));
+    d.iter().all(|&v| v > 0.0) || d.iter().all(|&v| v < 0.0)
 }
 
 /// Whether the segment `p q` meets the triangle `t` (closed).

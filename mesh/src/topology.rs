@@ -60,6 +60,7 @@ pub fn topology(mesh: &Mesh) -> Topology {
     // Per undirected edge: the number of uses and the sum of directions (+1 for
     // low-to-high, -1 for high-to-low): 2 uses and a sum of 0 is a good edge.
     let mut edges: FxHashMap<(u32, u32), (u32, i32)> = FxHashMap::default();
+    edges.reserve(mesh.triangles.len() * 3 / 2 + 1);
     let mut used = vec![false; mesh.vertices.len()];
     let mut uf = UnionFind::new(mesh.vertices.len());
     for tri in &mesh.triangles {
@@ -104,44 +105,76 @@ fn degenerate(mesh: &Mesh, t: &[u32; 3]) -> bool {
 
 /// Vertices of a closed edge-manifold mesh whose triangles form more than one fan:
 /// around each vertex, the link edges `b -> c` of its triangles `(v, b, c)` must form
-/// a single cycle.
+/// a single cycle. The links are laid out one vertex after another in one array.
 fn pinched_vertices(mesh: &Mesh) -> u64 {
-    let mut link: Vec<Vec<(u32, u32)>> = vec![Vec::new(); mesh.vertices.len()];
+    let n = mesh.vertices.len();
+    let mut start = vec![0usize; n + 1];
     for t in &mesh.triangles {
-        for k in 0..3 {
-            link[t[k] as usize].push((t[(k + 1) % 3], t[(k + 2) % 3]));
+        for &v in t {
+            start[v as usize + 1] += 1;
         }
     }
-    link.iter()
-        .filter(|l| !l.is_empty() && !single_cycle(l))
+    for i in 0..n {
+        start[i + 1] += start[i];
+    }
+    let mut fill = start.clone();
+    let mut link = vec![(0u32, 0u32); start[n]];
+    for t in &mesh.triangles {
+        for k in 0..3 {
+            let v = t[k] as usize;
+            link[fill[v]] = (t[(k + 1) % 3], t[(k + 2) % 3]);
+            fill[v] += 1;
+        }
+    }
+    (0..n)
+        .filter(|&v| start[v] < start[v + 1] && !single_cycle(&link[start[v]..start[v + 1]]))
         .count() as u64
+}
+
+/// The link edge leaving `v` (the first one, and whether it is the only one).
+fn next_of(l: &[(u32, u32)], v: u32) -> Option<(u32, bool)> {
+    let mut it = l.iter().filter(|e| e.0 == v);
+    let first = it.next()?.1;
+    Some((first, it.next().is_none()))
 }
 
 /// Whether the directed edges `l` form one cycle through all of them.
 fn single_cycle(l: &[(u32, u32)]) -> bool {
+    if l.len() > 64 {
+        return single_cycle_hashed(l);
+    }
+    let start = l[0].0;
+    let mut v = start;
+    for steps in 1..=l.len() {
+        match next_of(l, v) {
+            Some((w, true)) => v = w,
+            _ => return false,
+        }
+        if v == start {
+            return steps == l.len();
+        }
+    }
+    false
+}
+
+/// [`single_cycle`] over a hash map, for large links.
+fn single_cycle_hashed(l: &[(u32, u32)]) -> bool {
     let next: FxHashMap<u32, u32> = l.iter().copied().collect();
     if next.len() != l.len() {
         return false;
     }
     let start = l[0].0;
     let mut v = start;
-    for _ in 0..l.len() {
+    for steps in 1..=l.len() {
         match next.get(&v) {
             Some(&w) => v = w,
             None => return false,
         }
+        if v == start {
+            return steps == l.len();
+        }
     }
-    // Back at the start after exactly len steps, and no earlier.
-    if v != start {
-        return false;
-    }
-    let mut v = next[&start];
-    let mut steps = 1;
-    while v != start {
-        v = next[&v];
-        steps += 1;
-    }
-    steps == l.len()
+    false
 }
 
 /// Union-find over `0..n` with path halving.
