@@ -23,9 +23,19 @@ impl Bar {
 
     /// [`Bar::new`] counting `unit` (`tiles`, `parts`) instead of tiles.
     pub fn with_unit(unit: &str) -> Bar {
+        Bar::with_template(&format!(
+            "{{bar:40}} {{pos}}/{{len}} {unit}, {{elapsed}} (left {{eta}})"
+        ))
+    }
+
+    /// A bar over a whole job of named phases, in per cent (the phase's name first).
+    pub fn phased() -> Bar {
+        Bar::with_template("{msg:18} {bar:40} {percent:>3}%, {elapsed} (left {eta})")
+    }
+
+    fn with_template(template: &str) -> Bar {
         let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::hidden());
-        let template = format!("{{bar:40}} {{pos}}/{{len}} {unit}, {{elapsed}} (left {{eta}})");
-        if let Ok(style) = ProgressStyle::with_template(&template) {
+        if let Ok(style) = ProgressStyle::with_template(template) {
             bar.set_style(style);
         }
         Bar {
@@ -55,5 +65,8 @@ impl Progress for Bar {
     }
     fn finish(&self) {
         self.bar.finish_and_clear();
+    }
+    fn phase(&self, name: &str) {
+        self.bar.set_message(name.to_string());
     }
 }

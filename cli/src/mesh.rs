@@ -164,7 +164,7 @@ pub fn run_mesh(a: &MeshArgs) -> Result<(), String> {
     let mut p = plan(a)?;
     crate::args::set_threads(a.threads.as_deref())?;
     if !a.quiet {
-        p.opts.progress = Some(Arc::new(crate::bar::Bar::with_unit("parts")));
+        p.opts.progress = Some(Arc::new(crate::bar::Bar::phased()));
     }
     p.opts.cancel = Some(tracer_kit::interrupt::cancel_flag());
     let res = match mesh_kind(p.kind, &p.model.shape, &p.opts) {
@@ -195,22 +195,30 @@ fn report(p: &Plan, res: &MeshResult, out: &Path) {
     tracer_kit::out!("wrote {}", out.display());
 }
 
-/// Warnings on stderr where the mesh may miss thin parts of the surface.
+/// One warning line on stderr where the mesh may miss thin parts of the surface: how
+/// many cells stayed unresolved, where, and why.
 fn warn(s: &MeshStats) {
-    if s.unresolved_at_max_depth > 0 {
-        eprintln!(
-            "warning: {} cells at --max-depth {} still hold 0 in their range without a sign \
-             change: surface thinner than the finest cell (or a tangency) may be missing there",
-            s.unresolved_at_max_depth, s.max_depth
-        );
+    if s.unresolved_at_max_depth == 0 {
+        return;
     }
-    if s.level_wanted > s.level {
-        eprintln!(
-            "warning: thin features asked for leaf level {}, held at {} by the memory \
-             available: parts of the surface thinner than a cell may be missing",
+    let place = s.unresolved_box.map_or(String::new(), |b| {
+        format!(" in {}", tracer_mesh::box_text(&b))
+    });
+    let held = if s.level_wanted > s.level {
+        format!(
+            "; features there asked for leaf level {}, held at {} by the work and memory \
+             budget",
             s.level_wanted, s.level
-        );
-    }
+        )
+    } else {
+        String::new()
+    };
+    eprintln!(
+        "warning: {} cells stayed unresolved{place} (--max-depth {} or the probe budget \
+         reached{held}): surface thinner than a cell may be missing there; a larger --depth \
+         resolves more",
+        s.unresolved_at_max_depth, s.max_depth
+    );
 }
 
 /// The fields of a meshing's `--stats json` object.
@@ -227,6 +235,7 @@ pub fn mesh_fields(model: &str, arith: &str, s: &MeshStats) -> Vec<(&'static str
         ("cells_pruned", s.cells_pruned),
         ("cells_probed", s.cells_probed),
         ("cells_specialised", s.cells_specialised),
+        ("cells_excluded", s.cells_excluded),
         ("unresolved_at_max_depth", s.unresolved_at_max_depth),
         ("surface_cells", s.surface_cells),
         ("multi_piece_cells", s.multi_piece_cells),
@@ -248,6 +257,7 @@ pub fn mesh_fields(model: &str, arith: &str, s: &MeshStats) -> Vec<(&'static str
         ("model", json_string(model)),
         ("arith", json_string(arith)),
         ("wall_s", format!("{:?}", s.wall.as_secs_f64())),
+        ("check_wall_s", format!("{:?}", s.check_wall.as_secs_f64())),
     ];
     fields.extend(counters.map(|(k, v)| (k, v.to_string())));
     fields.extend([
@@ -261,6 +271,13 @@ pub fn mesh_fields(model: &str, arith: &str, s: &MeshStats) -> Vec<(&'static str
                 .map_or("null".into(), |v| format!("{v:?}")),
         ),
         ("self_intersections", opt(s.self_intersections)),
+        (
+            "unresolved_box",
+            s.unresolved_box.map_or("null".into(), |b| {
+                let v = [b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z];
+                format!("[{}]", v.map(|x| format!("{x:?}")).join(", "))
+            }),
+        ),
     ]);
     fields
 }

@@ -13,6 +13,10 @@ pub trait Progress: Send + Sync + std::fmt::Debug {
     fn tile_done(&self);
     /// No more units will be done (all of them, or the work was stopped).
     fn finish(&self);
+    /// The work entered the phase `name` (shown beside the bar); none by default.
+    fn phase(&self, name: &str) {
+        let _ = name;
+    }
 }
 
 /// Progress in units whose total grows as the work is discovered.

@@ -16,6 +16,7 @@ use super::grid::{corner_of, edge_between, edge_corners, face_corners, inside, k
 use super::merge::{merge, Clustered};
 use super::patches::{pieces, NONE};
 use super::qef::Qef;
+use crate::progress::Meter;
 use crate::triangles::Mesh;
 use arith_core::Arithmetic;
 use glam::DVec3;
@@ -23,7 +24,6 @@ use model_ir::shape::{Aabb, Shape};
 use rayon::prelude::*;
 use rustc_hash::FxHashSet;
 use std::sync::atomic::{AtomicBool, Ordering};
-use tracer_kit::progress::Ticker;
 
 /// Vertices stay this share of a cell inside their cell's faces.
 pub const MARGIN: f64 = 1e-4;
@@ -89,7 +89,7 @@ impl<S: Shape> Contour<'_, S> {
     pub fn run<A: Arithmetic>(
         &self,
         cells: &[[u32; 3]],
-        ticker: &Ticker,
+        meter: &Meter,
     ) -> Option<(Mesh, ContourStats)> {
         let mut stats = ContourStats::default();
         let cells = self.close_cells(cells, &mut stats)?;
@@ -97,19 +97,19 @@ impl<S: Shape> Contour<'_, S> {
         stats.cells = cells.keys.len() as u64;
         stats.crossings = edges.len() as u64;
         let chunks = (edges.len() + cells.keys.len()) as u64 / CHUNK + 2;
-        ticker.add_total(chunks);
-        let crossings = self.crossings::<A>(&edges, ticker)?;
+        meter.add_total(chunks);
+        let crossings = self.crossings::<A>(&edges, meter)?;
         for c in &crossings {
             stats.edge_evals += c.evals as u64;
             stats.multi_root_edges += (c.roots > 1) as u64;
         }
-        let (pieces, vertices) = self.vertices(&cells, &edges, &crossings, ticker)?;
+        let (pieces, vertices) = self.vertices(&cells, &edges, &crossings, meter)?;
         if self.cancelled() {
             return None;
         }
         stats.multi_piece_cells = pieces.iter().filter(|p| p.1 > 1).count() as u64;
         let triangles = self.quads(&cells, &edges, &pieces, &vertices.pos);
-        ticker.tick(1);
+        meter.tick(1);
         let (vertices, triangles) = match self.merge_error {
             Some(e) => {
                 let m = Clustered {
@@ -193,7 +193,7 @@ impl<S: Shape> Contour<'_, S> {
     fn crossings<A: Arithmetic>(
         &self,
         edges: &[(u64, u8)],
-        ticker: &Ticker,
+        meter: &Meter,
     ) -> Option<Vec<Crossing>> {
         let h = self.grid.cell_size(self.level);
         let out: Vec<Option<Vec<Crossing>>> = edges
@@ -216,7 +216,7 @@ impl<S: Shape> Contour<'_, S> {
                         )
                     })
                     .collect();
-                ticker.tick(1);
+                meter.tick(1);
                 Some(v)
             })
             .collect();
@@ -232,7 +232,7 @@ impl<S: Shape> Contour<'_, S> {
         cells: &Cells,
         edges: &[(u64, u8)],
         crossings: &[Crossing],
-        ticker: &Ticker,
+        meter: &Meter,
     ) -> Option<(Vec<PieceIndex>, Vertices)> {
         let flipped = self.flip_faces(cells);
         let flipped = &flipped;
@@ -249,7 +249,7 @@ impl<S: Shape> Contour<'_, S> {
                     .zip(ms)
                     .map(|(&k, &m)| self.cell_vertices(unkey(k), m, flipped, edges, crossings))
                     .collect();
-                ticker.tick(1);
+                meter.tick(1);
                 Some(v)
             })
             .collect();

@@ -66,11 +66,13 @@ pub mod certificate;
 pub mod consistency;
 pub mod dual_contour;
 pub mod edge_roots;
+pub mod exclusion;
 pub mod grid;
 pub mod merge;
 pub mod octree;
 pub mod output;
 pub mod patches;
+pub mod progress;
 pub mod qef;
 pub mod self_intersections;
 pub mod topology;
@@ -79,13 +81,14 @@ pub mod triangles;
 use arith_core::Arithmetic;
 use model_ir::arith::ArithKind;
 use model_ir::shape::{check_domain, Aabb, Shape};
+use progress::Meter;
 use rayon::prelude::*;
 use std::fmt;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 pub use topology::Topology;
-use tracer_kit::progress::{Progress, Ticker};
+use tracer_kit::progress::Progress;
 pub use triangles::Mesh;
 
 /// What to mesh and how.
@@ -129,6 +132,21 @@ pub const DEFAULT_MERGE_ERROR: f64 = 0.01;
 
 /// Extra levels that probes go below the depth by default.
 pub const DEFAULT_EXTRA_DEPTH: u32 = 4;
+
+/// The share of the progress bar left that each octree search takes.
+const SEARCH_SHARE: f64 = 0.4;
+
+/// The share of the progress bar left that the contouring takes.
+const CONTOUR_SHARE: f64 = 0.85;
+
+/// The leaf level rises for thin features only while the contouring's estimated work,
+/// surface cells times the shape's instructions per evaluation, stays within this
+/// (about a second on one core): small meshes of short formulas refine freely, long
+/// tapes keep the depth asked for and report what they leave.
+pub const RISE_WORK: u64 = 1 << 24;
+
+/// The instructions per evaluation assumed for a shape that is not a tape.
+pub const SHAPE_INSTRUCTIONS: u64 = 32;
 
 impl MeshOptions {
     /// Options for `domain` at `depth`: probes to `depth + 4` (at most
@@ -245,6 +263,8 @@ impl From<MeshError> for String {
 pub struct MeshStats {
     /// Wall time of the whole meshing.
     pub wall: Duration,
+    /// Wall time of the checks after meshing (topology and self-intersections).
+    pub check_wall: Duration,
     /// The depth asked for.
     pub depth: u32,
     /// The leaf level used: the depth, or deeper where probes found thin features.
@@ -265,9 +285,16 @@ pub struct MeshStats {
     pub cells_probed: u64,
     /// Cells whose shape was specialised.
     pub cells_specialised: u64,
-    /// Probes that reached the maximum depth with 0 still in the range and no sign
-    /// change: where the mesher cannot say whether surface is there.
+    /// Cells below the leaf level where the mesher cannot say whether surface is
+    /// there: probes that reached the maximum depth with 0 still in the range and no
+    /// sign change, sub-cells and finer lattices that the probe budget left, and
+    /// leaves whose features need a finer leaf level than the budget allowed.
     pub unresolved_at_max_depth: u64,
+    /// The box around the unresolved cells (`None` when there are none).
+    pub unresolved_box: Option<Aabb>,
+    /// Cells that interval arithmetic or the mean value form excluded where the
+    /// arithmetic's range did not ([`exclusion`]).
+    pub cells_excluded: u64,
     /// Leaves with a sign change (the cells contoured).
     pub surface_cells: u64,
     /// Surface cells holding several pieces of surface (one vertex each).
@@ -306,7 +333,12 @@ impl fmt::Display for MeshStats {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let t = &self.topology;
         let yes = |b: bool| if b { "yes" } else { "no" };
-        writeln!(f, "wall time          {:.3} s", self.wall.as_secs_f64())?;
+        writeln!(
+            f,
+            "wall time          {:.3} s ({:.3} s of checks)",
+            self.wall.as_secs_f64(),
+            self.check_wall.as_secs_f64()
+        )?;
         writeln!(
             f,
             "levels             depth {}, leaf level {}, probes to {}",
@@ -314,13 +346,19 @@ impl fmt::Display for MeshStats {
         )?;
         writeln!(
             f,
-            "octree cells       {} visited, {} pruned, {} probed, {} specialised",
-            self.cells_visited, self.cells_pruned, self.cells_probed, self.cells_specialised
+            "octree cells       {} visited, {} pruned, {} probed, {} excluded by tighter tests, {} specialised",
+            self.cells_visited,
+            self.cells_pruned,
+            self.cells_probed,
+            self.cells_excluded,
+            self.cells_specialised
         )?;
         writeln!(
             f,
-            "unresolved         {} probes at the maximum depth; {} leaves finer than their corners{}",
+            "unresolved         {} cells{}; {} leaves finer than their corners{}",
             self.unresolved_at_max_depth,
+            self.unresolved_box
+                .map_or(String::new(), |b| format!(" in {}", box_text(&b))),
             self.finer_cells,
             if self.level_wanted > self.level {
                 format!("; level {} wanted, held back by memory", self.level_wanted)
@@ -368,6 +406,15 @@ impl fmt::Display for MeshStats {
     }
 }
 
+/// A box as `[x0, x1] x [y0, y1] x [z0, z1]`, four significant digits.
+pub fn box_text(b: &Aabb) -> String {
+    let (lo, hi) = (b.min, b.max);
+    format!(
+        "[{:.4}, {:.4}] x [{:.4}, {:.4}] x [{:.4}, {:.4}]",
+        lo.x, hi.x, lo.y, hi.y, lo.z, hi.z
+    )
+}
+
 /// A mesh and how it was made.
 #[derive(Clone, Debug, Default)]
 pub struct MeshResult {
@@ -386,9 +433,9 @@ pub fn mesh<A: Arithmetic, S: Shape>(
 ) -> Result<MeshResult, MeshError> {
     opts.check()?;
     let start = Instant::now();
-    let ticker = Ticker::new(opts.progress.clone());
-    let res = run::<A, S>(shape, opts, &ticker);
-    ticker.finish();
+    let meter = Meter::new(opts.progress.clone());
+    let res = run::<A, S>(shape, opts, &meter);
+    meter.finish();
     let mut res = res?;
     res.stats.wall = start.elapsed();
     Ok(res)
@@ -406,7 +453,7 @@ pub fn mesh_kind<S: Shape>(
 fn run<A: Arithmetic, S: Shape>(
     shape: &S,
     opts: &MeshOptions,
-    ticker: &Ticker,
+    meter: &Meter,
 ) -> Result<MeshResult, MeshError> {
     let cancel = opts.cancel.as_deref();
     let mut stats = MeshStats {
@@ -414,7 +461,7 @@ fn run<A: Arithmetic, S: Shape>(
         max_depth: opts.max_depth,
         ..MeshStats::default()
     };
-    let (level, cells) = search::<A, S>(shape, opts, ticker, &mut stats)?;
+    let (level, cells) = search::<A, S>(shape, opts, meter, &mut stats)?;
     let grid = grid::Grid::new(&opts.domain, level);
     let contour = dual_contour::Contour {
         shape,
@@ -425,8 +472,9 @@ fn run<A: Arithmetic, S: Shape>(
         merge_error: opts.merge.map(|e| e * grid.cell_size(level)),
         cancel,
     };
+    meter.phase("contouring", CONTOUR_SHARE, 0);
     let (mesh, c) = contour
-        .run::<A>(&cells, ticker)
+        .run::<A>(&cells, meter)
         .ok_or(MeshError::Cancelled)?;
     stats.level = level;
     stats.surface_cells = c.cells;
@@ -437,15 +485,21 @@ fn run<A: Arithmetic, S: Shape>(
     stats.edge_evals = c.edge_evals;
     stats.point_evals += c.corners;
     if opts.certify {
+        meter.phase("certificate", 0.5, 1);
         stats.certified_cells = Some(certify::<A, S>(shape, &opts.domain, &grid, level, &cells));
+        meter.tick(1);
     }
     if cancelled(cancel) {
         return Err(MeshError::Cancelled);
     }
+    meter.phase("checks", 1.0, 1);
+    let checks = Instant::now();
     stats.topology = mesh.topology();
     if opts.check_self_intersections {
         stats.self_intersections = Some(mesh.self_intersections());
     }
+    stats.check_wall = checks.elapsed();
+    meter.tick(1);
     if cancelled(cancel) {
         return Err(MeshError::Cancelled);
     }
@@ -456,12 +510,12 @@ fn cancelled(c: Option<&AtomicBool>) -> bool {
     c.is_some_and(|c| c.load(Ordering::Relaxed))
 }
 
-/// The octree search, raised to the level that thin features need: the leaf level and
-/// its surface cells.
+/// The octree search, raised to the level that thin features need within the memory
+/// limit and the work budget ([`RISE_WORK`]): the leaf level and its surface cells.
 fn search<A: Arithmetic, S: Shape>(
     shape: &S,
     opts: &MeshOptions,
-    ticker: &Ticker,
+    meter: &Meter,
     stats: &mut MeshStats,
 ) -> Result<(u32, Vec<[u32; 3]>), MeshError> {
     let mut level = opts.depth;
@@ -474,8 +528,12 @@ fn search<A: Arithmetic, S: Shape>(
             max_depth: opts.max_depth,
             cancel: opts.cancel.as_deref(),
         };
-        ticker.add_total(tree.tasks());
-        let d = tree.search::<A>(&|n| ticker.tick(n));
+        meter.phase(
+            &format!("search, level {level}"),
+            SEARCH_SHARE,
+            tree.tasks(),
+        );
+        let d = tree.search::<A>(&|n| meter.tick(n));
         if d.cancelled {
             return Err(MeshError::Cancelled);
         }
@@ -483,25 +541,41 @@ fn search<A: Arithmetic, S: Shape>(
         stats.cells_pruned += d.pruned;
         stats.cells_probed += d.probed;
         stats.cells_specialised += d.specialised;
+        stats.cells_excluded += d.excluded;
         stats.point_evals += d.point_evals;
-        stats.unresolved_at_max_depth = d.unresolved;
         stats.finer_cells += d.finer;
-        if d.needs <= level {
-            return Ok((level, d.cells));
-        }
-        stats.level_wanted = stats.level_wanted.max(d.needs);
-        // Surface cells grow four-fold per level: the deepest level within the limit.
         let cells = d.cells.len().max(1) as u64;
+        let cost = shape
+            .tape_len()
+            .map_or(SHAPE_INSTRUCTIONS, |n| n.max(1) as u64);
+        // Surface cells grow four-fold per level: the deepest level within the limits.
         let fits = |l: u32| {
-            let bytes = cells
-                .saturating_mul(1u64 << (2 * (l - level)))
-                .saturating_mul(BYTES_PER_CELL);
-            opts.memory_limit.is_none_or(|m| bytes <= m)
+            let grown = cells.saturating_mul(1u64 << (2 * (l - level)));
+            let bytes = grown.saturating_mul(BYTES_PER_CELL);
+            opts.memory_limit.is_none_or(|m| bytes <= m) && grown.saturating_mul(cost) <= RISE_WORK
         };
-        match (level + 1..=d.needs).rev().find(|&l| fits(l)) {
-            Some(l) => level = l,
-            None => return Ok((level, d.cells)),
+        let next = (level + 1..=d.needs).rev().find(|&l| fits(l));
+        if let Some(next) = next {
+            stats.level_wanted = stats.level_wanted.max(d.needs);
+            level = next;
+            continue;
         }
+        // Features that need a finer level than the limits allow stay unresolved.
+        let grid = grid::Grid::new(&opts.domain, level);
+        let held: Vec<Aabb> = d
+            .deeper
+            .iter()
+            .filter(|e| e.0 > level)
+            .map(|e| grid.cell_box(level, e.1))
+            .collect();
+        if !held.is_empty() {
+            stats.level_wanted = stats.level_wanted.max(d.needs);
+        }
+        stats.unresolved_at_max_depth = d.unresolved + held.len() as u64;
+        stats.unresolved_box = held
+            .into_iter()
+            .fold(d.unresolved_box, |u, b| octree::union(u, Some(b)));
+        return Ok((level, d.cells));
     }
 }
 

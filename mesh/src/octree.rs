@@ -8,13 +8,20 @@
 //! Plantinga–Vegter test certifies it (then any surface in it is one sheet that its
 //! neighbours' sign changes account for: a bulge of the surface through a face, not a
 //! feature of its own), it is probed below the leaf level, down to the maximum depth,
-//! until every sub-cell's range excludes 0 or is certified, or a sub-cell shows a sign
-//! change among its corners. A sign change at level `d` says
+//! until every sub-cell is excluded by one of the tighter tests of
+//! [`super::exclusion`] (interval arithmetic, the mean value form) or certified, or a
+//! sub-cell shows a sign change among its corners. A sign change at level `d` says
 //! that the leaf level must be at least `d` for that part of the surface to be meshed;
 //! the caller then searches again at that level ([`Descent::needs`]). Probes that reach
 //! the maximum depth with a range that still holds 0 and no sign change are counted
 //! ([`Descent::unresolved`]): a tangency, a feature thinner than the finest cell, or
 //! the arithmetic's overestimation.
+//!
+//! Probing is held to a budget proportional to the mesh: each task (a subtree handed
+//! to a thread) may evaluate [`PROBE_FLOOR`] sub-cells plus [`PROBE_PER_CELL`] per
+//! surface cell it has found so far, and one leaf at most [`PROBE_BUDGET`]. A task's
+//! cells are visited in a fixed order, so what the budget leaves is the same on every
+//! run; it is counted as unresolved, with the box around it ([`Descent::unresolved_box`]).
 //!
 //! A leaf with a sign change that is not certified is checked on a finer lattice of
 //! points ([`super::consistency`]): where the lattice shows another topology than the
@@ -26,6 +33,7 @@
 
 use super::certificate::certified;
 use super::consistency::finer_topology;
+use super::exclusion::{gradient_verdict, interval_excludes, Verdict};
 use super::grid::{cell_inputs, corner_mask, corner_of, crosses, Clipped, Grid};
 use arith_core::{Arithmetic, Range};
 use model_ir::shape::{Aabb, Shape};
@@ -39,6 +47,15 @@ pub const SPECIALISE_EVERY: u32 = 3;
 /// Sub-cells a probe evaluates at most per leaf.
 pub const PROBE_BUDGET: u32 = 256;
 
+/// Sub-cells each task may probe whatever it finds.
+pub const PROBE_FLOOR: u64 = 1024;
+
+/// Sub-cells a task may probe per surface cell it has found.
+pub const PROBE_PER_CELL: u64 = 16;
+
+/// Sub-cells that one point of a finer lattice counts for in the budget.
+const POINTS_PER_UNIT: u64 = 8;
+
 /// Cells are handed to threads as the subtrees below this level.
 const TASK_LEVEL: u32 = 3;
 
@@ -50,8 +67,19 @@ pub struct Descent {
     /// The deepest level at which a probe below the leaf level found a sign change
     /// (the leaf level itself when none did).
     pub needs: u32,
-    /// Probes at the maximum depth whose range still held 0 with no sign change.
+    /// Probes at the maximum depth whose range still held 0 with no sign change, and
+    /// sub-cells and lattices the budget left unexamined.
     pub unresolved: u64,
+    /// The box around the unresolved cells (`None` when there are none).
+    pub unresolved_box: Option<Aabb>,
+    /// Leaves where a probe or a finer lattice found a feature, each with the leaf
+    /// level it needs (deeper than the search's).
+    pub deeper: Vec<(u32, [u32; 3])>,
+    /// Cells that interval arithmetic or the mean value form excluded while the
+    /// arithmetic's range did not.
+    pub excluded: u64,
+    /// Budget units spent (sub-cells probed, lattice points / 8).
+    pub spent: u64,
     /// Cells whose range was evaluated.
     pub visited: u64,
     /// Cells dropped because their range excluded 0.
@@ -71,10 +99,26 @@ pub struct Descent {
 }
 
 impl Descent {
+    /// Counts the cell `b` as unresolved.
+    fn unresolved(&mut self, b: &Aabb) {
+        self.unresolved += 1;
+        self.unresolved_box = union(self.unresolved_box, Some(*b));
+    }
+
+    /// What is left of this task's budget: [`PROBE_FLOOR`] plus [`PROBE_PER_CELL`] per
+    /// surface cell found, less what was spent.
+    fn allowance(&self) -> u64 {
+        (PROBE_FLOOR + PROBE_PER_CELL * self.cells.len() as u64).saturating_sub(self.spent)
+    }
+
     fn merge(&mut self, o: Descent) {
         self.cells.extend(o.cells);
         self.needs = self.needs.max(o.needs);
         self.unresolved += o.unresolved;
+        self.unresolved_box = union(self.unresolved_box, o.unresolved_box);
+        self.deeper.extend(o.deeper);
+        self.excluded += o.excluded;
+        self.spent += o.spent;
         self.visited += o.visited;
         self.pruned += o.pruned;
         self.probed += o.probed;
@@ -185,9 +229,18 @@ impl<S: Shape> Octree<'_, S> {
             if crosses(m) {
                 d.cells.push(c);
                 self.check_pieces::<A>(shape, level, c, d);
+            } else if interval_excludes(shape, &self.domain, &self.grid.cell_box(level, c)) {
+                d.excluded += 1;
             } else {
-                let mut budget = PROBE_BUDGET;
-                self.probe::<A>(shape, level, c, d, &mut budget);
+                let before = d.needs;
+                d.needs = level;
+                let mut budget = d.allowance().min(PROBE_BUDGET as u64) as u32;
+                let start = budget;
+                if self.probe::<A>(shape, level, c, d, &mut budget) {
+                    d.deeper.push((d.needs, c));
+                }
+                d.spent += (start - budget) as u64;
+                d.needs = d.needs.max(before);
             }
             return;
         }
@@ -224,17 +277,19 @@ impl<S: Shape> Octree<'_, S> {
     }
 
     /// Looks below cell `c` at `level` (its range holds 0, its corners agree) for sign
-    /// changes, down to the maximum depth, unless the Plantinga–Vegter test certifies
-    /// the cell: then whatever surface it holds is a single sheet, a graph over one
-    /// direction, that cannot close on itself inside the cell (a small component or
-    /// both sheets of a thin shell would need gradients of opposite directions), so
-    /// the sign changes of its neighbours already account for it.
+    /// changes, down to the maximum depth, unless a tighter range test excludes it
+    /// ([`super::exclusion`]) or the Plantinga–Vegter test certifies it: then whatever
+    /// surface it holds is a single sheet, a graph over one direction, that cannot
+    /// close on itself inside the cell (a small component or both sheets of a thin
+    /// shell would need gradients of opposite directions), so the sign changes of its
+    /// neighbours already account for it.
     ///
-    /// Depth first, at most `budget` sub-cells per leaf (a layer of sub-cells along a
-    /// surface that only touches the leaf keeps 0 in its ranges down to the maximum
-    /// depth, `4^k` of them `k` levels down); the first sign change ends the probe
-    /// (the leaf level is raised and the search runs again). Returns whether it found
-    /// one. Sub-cells left when the budget runs out count as unresolved.
+    /// Depth first, at most `budget` sub-cells (a layer of sub-cells along a surface
+    /// that only touches the leaf keeps 0 in its ranges down to the maximum depth,
+    /// `4^k` of them `k` levels down, unless the mean value form excludes them); the
+    /// first sign change ends the probe (the leaf level is raised and the search runs
+    /// again). Returns whether it found one. Sub-cells left when the budget runs out
+    /// count as unresolved.
     fn probe<A: Arithmetic>(
         &self,
         shape: &S,
@@ -245,22 +300,32 @@ impl<S: Shape> Octree<'_, S> {
     ) -> bool {
         let b = self.grid.cell_box(level, c);
         d.certificates += 1;
-        if certified::<A, S>(shape, &self.domain, &b) {
-            return false;
+        match gradient_verdict::<A, S>(shape, &self.domain, &b) {
+            Verdict::Excluded(_) => {
+                d.excluded += 1;
+                return false;
+            }
+            Verdict::Certified => return false,
+            Verdict::Open => {}
         }
         if level >= self.max_depth || *budget == 0 {
-            d.unresolved += 1;
+            d.unresolved(&b);
             return false;
         }
         for i in 0..8 {
             let (l, k) = (level + 1, child(c, i));
             if *budget == 0 {
-                d.unresolved += 1;
-                return false;
+                d.unresolved(&self.grid.cell_box(l, k));
+                continue;
             }
             *budget -= 1;
             d.probed += 1;
-            if !self.may_cross::<A>(shape, &self.grid.cell_box(l, k)) {
+            let kb = self.grid.cell_box(l, k);
+            if !self.may_cross::<A>(shape, &kb) {
+                continue;
+            }
+            if interval_excludes(shape, &self.domain, &kb) {
+                d.excluded += 1;
                 continue;
             }
             let m = self.corner_mask(l, k, d);
@@ -283,13 +348,27 @@ impl<S: Shape> Octree<'_, S> {
         if certified::<A, S>(shape, &self.domain, &self.grid.cell_box(level, c)) {
             return;
         }
+        if d.allowance() == 0 {
+            d.unresolved(&self.grid.cell_box(level, c));
+            return;
+        }
         let levels = self.max_depth - level;
         let (k, evals) = finer_topology(self.shape, &self.domain, &self.grid, level, c, levels);
         d.point_evals += evals;
+        d.spent += evals.div_ceil(POINTS_PER_UNIT);
         if let Some(k) = k {
             d.finer += 1;
             d.needs = d.needs.max(level + k);
+            d.deeper.push((level + k, c));
         }
+    }
+}
+
+/// The box around both boxes (either may be missing).
+pub fn union(a: Option<Aabb>, b: Option<Aabb>) -> Option<Aabb> {
+    match (a, b) {
+        (Some(a), Some(b)) => Some(Aabb::new(a.min.min(b.min), a.max.max(b.max))),
+        (a, b) => a.or(b),
     }
 }
 

@@ -5,8 +5,8 @@ use crate::args::{domain as domain_arg, value_error};
 use crate::detached::{pool, run, Report};
 use crate::shape::PyShape;
 use crate::toolkit::mesh::{
-    mesh_kind, MeshError, MeshOptions, MeshStats, DEFAULT_EXTRA_DEPTH, DEFAULT_MERGE_ERROR,
-    MAX_DEPTH, MIN_DEPTH,
+    box_text, mesh_kind, MeshError, MeshOptions, MeshStats, DEFAULT_EXTRA_DEPTH,
+    DEFAULT_MERGE_ERROR, MAX_DEPTH, MIN_DEPTH,
 };
 use crate::toolkit::render::Progress;
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
@@ -156,17 +156,22 @@ fn warn(py: Python<'_>, s: &MeshStats) -> PyResult<()> {
         )
     };
     if s.unresolved_at_max_depth > 0 {
+        let place = s
+            .unresolved_box
+            .map_or(String::new(), |b| format!(" in {}", box_text(&b)));
+        let held = if s.level_wanted > s.level {
+            format!(
+                "; features there asked for leaf level {}, held at {} by the work and \
+                 memory budget",
+                s.level_wanted, s.level
+            )
+        } else {
+            String::new()
+        };
         say(format!(
-            "{} cells at max_depth {} still hold 0 in their range without a sign change: \
-             surface thinner than the finest cell (or a tangency) may be missing there",
+            "{} cells stayed unresolved{place} (max_depth {} or the probe budget \
+             reached{held}): surface thinner than a cell may be missing there",
             s.unresolved_at_max_depth, s.max_depth
-        ))?;
-    }
-    if s.level_wanted > s.level {
-        say(format!(
-            "thin features asked for leaf level {}, held at {} by the memory available: \
-             parts of the surface thinner than a cell may be missing",
-            s.level_wanted, s.level
         ))?;
     }
     Ok(())
@@ -188,6 +193,7 @@ fn stats_dict<'py>(py: Python<'py>, s: &MeshStats, arith: &str) -> PyResult<Boun
         ("cells_pruned", s.cells_pruned),
         ("cells_probed", s.cells_probed),
         ("cells_specialised", s.cells_specialised),
+        ("cells_excluded", s.cells_excluded),
         ("unresolved_at_max_depth", s.unresolved_at_max_depth),
         ("surface_cells", s.surface_cells),
         ("multi_piece_cells", s.multi_piece_cells),

@@ -46,7 +46,7 @@ pub mod render {
 pub mod mesh {
     pub use tracer_mesh::grid::MAX_DEPTH;
     pub use tracer_mesh::{
-        mesh_kind, MeshError, MeshOptions, MeshStats, DEFAULT_EXTRA_DEPTH, DEFAULT_MERGE_ERROR,
-        MIN_DEPTH,
+        box_text, mesh_kind, MeshError, MeshOptions, MeshStats, DEFAULT_EXTRA_DEPTH,
+        DEFAULT_MERGE_ERROR, MIN_DEPTH,
     };
 }
