@@ -49,7 +49,9 @@ pub struct MeshArgs {
     /// Statistics: text (default), or json (one object on stdout, nothing else there).
     #[arg(long, default_value = "text", allow_hyphen_values = true)]
     pub stats: String,
-    /// Skip the self-intersection check (a BVH over the triangles after meshing).
+    /// Skip the self-intersection check (a BVH over the triangles after meshing). It is
+    /// on by default: about a tenth of the time of a small mesh of a short formula
+    /// (the tanglecube at depth 6), under 1% on long formulas.
     #[arg(long)]
     pub no_check: bool,
     /// Keep one vertex per piece of surface per leaf cell: do not merge cells where

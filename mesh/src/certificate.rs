@@ -16,14 +16,21 @@ use arith_core::dual::Dual;
 use arith_core::{Arithmetic, Range};
 use model_ir::shape::{Aabb, Shape};
 
-/// Whether the cell `b` of `shape` clipped to `domain` is certified.
-pub fn certified<A: Arithmetic, S: Shape>(shape: &S, domain: &Aabb, b: &Aabb) -> bool {
+/// The value and gradient of `shape` clipped to `domain` over the cell `b`, in the
+/// arithmetic's cell form: what the certificate (and the probes' mean value form)
+/// read.
+pub fn cell_gradient<A: Arithmetic, S: Shape>(shape: &S, domain: &Aabb, b: &Aabb) -> Dual<A::Cell> {
     let f = Clipped {
         inner: shape,
         domain: *domain,
     };
     let [x, y, z] = cell_inputs::<A::Cell>(b);
-    let d = f.eval(Dual::var(x, 0), Dual::var(y, 1), Dual::var(z, 2));
+    f.eval(Dual::var(x, 0), Dual::var(y, 1), Dual::var(z, 2))
+}
+
+/// Whether the cell `b` of `shape` clipped to `domain` is certified.
+pub fn certified<A: Arithmetic, S: Shape>(shape: &S, domain: &Aabb, b: &Aabb) -> bool {
+    let d = cell_gradient::<A, S>(shape, domain, b);
     if !d.v.contains_zero() {
         return true;
     }

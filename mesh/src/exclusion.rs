@@ -22,9 +22,8 @@
 //! value at the centre is enclosed in interval arithmetic at a point (sound after
 //! rounding), and the bound is rounded up.
 
-use super::certificate::inner_product_lower_bound;
+use super::certificate::{cell_gradient, inner_product_lower_bound};
 use super::grid::{cell_inputs, Clipped};
-use arith_core::dual::Dual;
 use arith_core::round::{add_up, mul_up};
 use arith_core::{Arithmetic, Range};
 use model_ir::arith::arith_ia::Interval;
@@ -68,16 +67,15 @@ pub fn interval_excludes<S: Shape>(shape: &S, domain: &Aabb, b: &Aabb) -> bool {
 /// the arithmetic's range, the mean value form and the certificate, from one
 /// evaluation over `Dual<A::Cell>`.
 pub fn gradient_verdict<A: Arithmetic, S: Shape>(shape: &S, domain: &Aabb, b: &Aabb) -> Verdict {
+    let d = cell_gradient::<A, S>(shape, domain, b);
+    if !d.v.contains_zero() {
+        return Verdict::Excluded(Test::Range);
+    }
+    let g = d.g.map(|r| r.bounds());
     let f = Clipped {
         inner: shape,
         domain: *domain,
     };
-    let [x, y, z] = cell_inputs::<A::Cell>(b);
-    let d = f.eval(Dual::var(x, 0), Dual::var(y, 1), Dual::var(z, 2));
-    if !d.v.contains_zero() {
-        return Verdict::Excluded(Test::Range);
-    }
-    let g = d.g.clone().map(|r| r.bounds());
     if mean_value_excludes(&f, b, &g) {
         return Verdict::Excluded(Test::MeanValue);
     }

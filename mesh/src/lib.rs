@@ -7,7 +7,10 @@
 //! The steps, one module each:
 //! - [`octree`]: cells whose range of `f` (the arithmetic's cell form) excludes 0 are
 //!   dropped; a leaf whose range holds 0 while its corners agree is probed below the
-//!   leaf level for thin features, and the leaf level is raised where one is found;
+//!   leaf level for thin features, within a budget, and the leaf level is raised where
+//!   one is found (within a work limit, [`RISE_WORK`]); [`exclusion`]: the tighter
+//!   tests a probe puts each sub-cell to first (interval arithmetic, the mean value
+//!   form);
 //! - [`edge_roots`]: each sign-changing edge's crossing by range-based root isolation,
 //!   the normal from dual numbers;
 //! - [`branches`]: every `min`/`max` branch's plane where branches tie at a crossing
@@ -23,7 +26,7 @@
 //! - [`topology`] and [`self_intersections`]: what the result is (watertight,
 //!   manifold, Euler characteristic, intersecting triangle pairs over a BVH);
 //! - [`output`]: OBJ, binary PLY and binary STL, written atomically; [`triangles`]: the
-//!   mesh itself.
+//!   mesh itself; [`progress`]: one progress measure over the whole job.
 //!
 //! The shape is meshed clipped to its domain (`min(f, box)`), so the mesh is closed;
 //! where the surface leaves the domain it is capped by the domain's faces. The leaf
@@ -494,10 +497,16 @@ fn run<A: Arithmetic, S: Shape>(
     }
     meter.phase("checks", 1.0, 1);
     let checks = Instant::now();
-    stats.topology = mesh.topology();
-    if opts.check_self_intersections {
-        stats.self_intersections = Some(mesh.self_intersections());
-    }
+    // The topology is sequential: it runs beside the parallel pair count.
+    let (topology, pairs) = rayon::join(
+        || mesh.topology(),
+        || {
+            opts.check_self_intersections
+                .then(|| mesh.self_intersections())
+        },
+    );
+    stats.topology = topology;
+    stats.self_intersections = pairs;
     stats.check_wall = checks.elapsed();
     meter.tick(1);
     if cancelled(cancel) {

@@ -48,7 +48,7 @@ pub const SPECIALISE_EVERY: u32 = 3;
 pub const PROBE_BUDGET: u32 = 256;
 
 /// Sub-cells each task may probe whatever it finds.
-pub const PROBE_FLOOR: u64 = 1024;
+pub const PROBE_FLOOR: u64 = 256;
 
 /// Sub-cells a task may probe per surface cell it has found.
 pub const PROBE_PER_CELL: u64 = 16;
