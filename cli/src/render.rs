@@ -220,13 +220,7 @@ pub fn run_render(a: &RenderArgs) -> Result<(), String> {
         );
     }
     if json {
-        let j = stats_json(&render_fields(
-            &name,
-            width,
-            height,
-            arith_name,
-            &res.stats,
-        ));
+        let j = stats_json(&render_fields(&name, width, height, arith_name, &res.stats));
         out!("{j}");
     } else {
         out!(

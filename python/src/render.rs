@@ -8,8 +8,8 @@ use crate::shape::PyShape;
 use crate::toolkit::camera::{check_size, Camera, MAX_SIDE};
 use crate::toolkit::models::AnyShape;
 use crate::toolkit::render::{
-    downsample_render, render_auto, render_kind, write_depth, write_png, Filter, Kernel,
-    Progress, RenderOptions, RenderResult, RenderStats,
+    downsample_render, render_auto, render_kind, write_depth, write_png, Filter, Kernel, Progress,
+    RenderOptions, RenderResult, RenderStats,
 };
 use crate::toolkit::{ArithKind, View};
 use numpy::{PyArray1, PyArray2, PyArray3, PyArrayMethods, PyUntypedArrayMethods};
@@ -252,11 +252,7 @@ fn arrays(
 }
 
 /// Every counter of `s` under its field name, `wall_s`, and the arithmetic used.
-fn stats_dict<'py>(
-    py: Python<'py>,
-    s: &RenderStats,
-    arith: &str,
-) -> PyResult<Bound<'py, PyDict>> {
+fn stats_dict<'py>(py: Python<'py>, s: &RenderStats, arith: &str) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("arith", arith)?;
     d.set_item("wall_s", s.wall.as_secs_f64())?;

@@ -48,7 +48,7 @@ impl Tape {
     fn specialiser(&self) -> &Specialiser {
         self.shared()
             .rules
-            .get_or_init(|| Specialiser::new(self.instructions()))
+            .get_or_init(|| Specialiser::new(self.instructions(), self.shared().affine_bounds))
     }
 
     /// Whether [`Tape::specialise`] can ever give a shorter tape (long enough, and with
@@ -151,7 +151,7 @@ impl Tape {
         }
         let folded = (fold != Fold::Exact).then_some(&spec.level_only[..]);
         let t = rebuild(ins, folded, fold, &decisions);
-        (t.len() < ins.len()).then(|| Tape::from_instructions(t))
+        (t.len() < ins.len()).then(|| Tape::specialised(t, spec.affine_bounds()))
     }
 
     /// [`Tape::specialise`] for several unions of regions at once: `groups[g] = (i, j)`
@@ -224,7 +224,8 @@ impl Tape {
                 return t.clone();
             }
         }
-        let t = Tape::from_instructions(rebuild(ins, Some(&spec.sign_only), Fold::Sign, decisions));
+        let t = rebuild(ins, Some(&spec.sign_only), Fold::Sign, decisions);
+        let t = Tape::specialised(t, spec.affine_bounds());
         // (`a \ b` as `min(a, -b)` can take one more instruction.)
         let kept = t.len() < ins.len() || spec.r_functions && t.len() <= ins.len() + spec.subtracts;
         let t = kept.then_some(t);

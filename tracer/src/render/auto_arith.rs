@@ -65,9 +65,10 @@ fn schedule<S: Shape>(tiles: &Tiles<'_, S>) -> Vec<Option<TileOut>> {
     let (sample, rest): (Vec<usize>, Vec<usize>) =
         (0..n).partition(|k| k % stride == stride / 2 || stride == 1);
     let first = tiles.run(&sample, auto_tile::<S>);
-    let (hits, resolved) = first.iter().flatten().fold((0, 0), |(h, r), o| {
-        (h + o.stats.hits, r + o.resolved)
-    });
+    let (hits, resolved) = first
+        .iter()
+        .flatten()
+        .fold((0, 0), |(h, r), o| (h + o.stats.hits, r + o.resolved));
     let walls = resolved > ((hits as f64 * WALL_SHARE).ceil() as u64).max(WALL_MIN);
     let tile_fn = if walls {
         render_tile::<Hull, S>
@@ -81,7 +82,11 @@ fn schedule<S: Shape>(tiles: &Tiles<'_, S>) -> Vec<Option<TileOut>> {
         }
     }
     let mut outs: Vec<Option<TileOut>> = (0..n).map(|_| None).collect();
-    for (k, o) in sample.into_iter().zip(first).chain(rest.into_iter().zip(second)) {
+    for (k, o) in sample
+        .into_iter()
+        .zip(first)
+        .chain(rest.into_iter().zip(second))
+    {
         outs[k] = o;
     }
     outs

@@ -27,7 +27,11 @@ fn bear_options(w: u32, h: u32) -> (model_sources::formula::Tape, RenderOptions)
 
 /// Pixels hit in `a` but not in `b`.
 fn extra(a: &RenderResult, b: &RenderResult) -> usize {
-    a.hit.iter().zip(&b.hit).filter(|(x, y)| **x && !**y).count()
+    a.hit
+        .iter()
+        .zip(&b.hit)
+        .filter(|(x, y)| **x && !**y)
+        .count()
 }
 
 #[test]
@@ -66,7 +70,10 @@ fn tiles_after_a_sample_with_walls_go_to_hull() {
         let (i0, j0) = ((k % 6) * t, (k / 6) * t);
         for j in j0..j0 + t {
             for i in i0..i0 + t {
-                assert_eq!(auto.depth[j * w + i].to_bits(), hull.depth[j * w + i].to_bits());
+                assert_eq!(
+                    auto.depth[j * w + i].to_bits(),
+                    hull.depth[j * w + i].to_bits()
+                );
             }
         }
     }
