@@ -251,6 +251,8 @@ impl Tape {
                 file,
                 inputs,
                 chunks,
+                watch: &[],
+                seen: &mut [],
             };
             dispatch(path, kernel);
             let r = 2 * slots.slot[ins.len() - 1] as usize * chunks;
@@ -259,6 +261,54 @@ impl Tape {
                 let j = step * (l / LANES);
                 put(l % LANES, (&file[r + 2 * j].0, &file[r + 2 * j + 1].0));
             }
+        });
+    }
+
+    /// The interval bounds over `n` boxes (box `l`'s side `q` is `lane(q, l)`) of the
+    /// registers that `watch` maps to a place `w < count` (`u32::MAX`: not watched):
+    /// `seen(l, w, (lo, hi))` for every box and watched register, on the lane kernel
+    /// of the current path, each bound what the scalar [`Interval`] gives.
+    pub(crate) fn watched_intervals(
+        &self,
+        watch: &[u32],
+        count: usize,
+        n: usize,
+        lane: impl Fn(usize, usize) -> (f64, f64),
+        mut seen: impl FnMut(usize, usize, (f64, f64)),
+    ) {
+        if n == 0 {
+            return;
+        }
+        let chunks = n.div_ceil(LANES);
+        let slots = self.slots();
+        regfile::with_file(2 * slots.count * chunks, 6 * chunks, |file, inputs| {
+            regfile::with_seen(2 * count * chunks, |seen_file| {
+                for q in 0..3 {
+                    for j in 0..chunks {
+                        let v: [(f64, f64); LANES] =
+                            core::array::from_fn(|l| lane(q, (j * LANES + l).min(n - 1)));
+                        inputs[2 * (q * chunks + j)] = F64x8(v.map(|b| b.0));
+                        inputs[2 * (q * chunks + j) + 1] = F64x8(v.map(|b| b.1));
+                    }
+                }
+                let kernel = intervals::Intervals {
+                    ins: self.instructions(),
+                    slots,
+                    file,
+                    inputs,
+                    chunks,
+                    watch,
+                    seen: seen_file,
+                };
+                dispatch(Path::current(), kernel);
+                for w in 0..count {
+                    for l in 0..n {
+                        let at = 2 * (w * chunks + l / LANES);
+                        let b = (seen_file[at].0[l % LANES], seen_file[at + 1].0[l % LANES]);
+                        seen(l, w, b);
+                    }
+                }
+            })
         });
     }
 

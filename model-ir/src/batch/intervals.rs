@@ -23,13 +23,17 @@ use arith_ia::Interval;
 
 /// One tape over `chunks` blocks of intervals: `file` holds two blocks per slot and
 /// block index (lower bounds at `2 * (s * chunks + c)`, upper bounds after them),
-/// `inputs` the blocks of `x`, `y`, `z` likewise.
+/// `inputs` the blocks of `x`, `y`, `z` likewise. Where `watch[k]` is some `w` (not
+/// `u32::MAX`; `watch` empty: none), register `k`'s blocks are also copied to `seen`,
+/// laid out as a slot `w` of `file`, before a later register takes its slot.
 pub(crate) struct Intervals<'a> {
     pub(crate) ins: &'a [Instr],
     pub(crate) slots: &'a Slots,
     pub(crate) file: &'a mut [F64x8],
     pub(crate) inputs: &'a [F64x8],
     pub(crate) chunks: usize,
+    pub(crate) watch: &'a [u32],
+    pub(crate) seen: &'a mut [F64x8],
 }
 
 /// Lower and upper bounds of eight intervals in registers.
@@ -202,6 +206,8 @@ impl Kernel for Intervals<'_> {
             file,
             inputs,
             chunks: ch,
+            watch,
+            seen,
         } = self;
         let slot = &slots.slot;
         for (k, i) in ins.iter().enumerate() {
@@ -309,6 +315,14 @@ impl Kernel for Intervals<'_> {
                 Op::Select => op!(|x, y, z| (select(s, x, y, z), ok)),
                 // Lane by lane through the scalar operation.
                 _ => op!(|x, y, z| ((x.0, x.1), s.eq(zero, zero))),
+            }
+            if let Some(&w) = watch.get(k).filter(|&&w| w != u32::MAX) {
+                let step = step(k as u32);
+                for j in 0..ch {
+                    let at = 2 * (w as usize * ch + j);
+                    seen[at] = file[o + step * j];
+                    seen[at + 1] = file[o + step * j + 1];
+                }
             }
         }
     }
