@@ -32,6 +32,8 @@
 use crate::instr::Instr;
 use crate::tape::Tape;
 use arith_core::Range;
+use arith_ia::Interval;
+use std::any::TypeId;
 use rules::{rebuild, Fold, Specialiser, KEEP};
 use rustc_hash::FxHashMap as HashMap;
 
@@ -139,14 +141,25 @@ impl Tape {
             return None;
         }
         let ins = self.instructions();
-        let bounds = spec.watched_bounds(ins, region);
         let fold = if within < f64::INFINITY {
             Fold::Level(within)
         } else {
             Fold::Exact
         };
         let mut decisions = Vec::new();
-        spec.decide(ins, |k| bounds[k], fold, &mut decisions);
+        if TypeId::of::<R>() == TypeId::of::<Interval>() {
+            // A box: its bounds from the lane kernel, compact.
+            let mut bounds = Vec::new();
+            spec.regions_bounds(self, std::slice::from_ref(region), &mut bounds);
+            let bound = |k: usize| match spec.place[k] {
+                u32::MAX => (f64::NAN, f64::NAN),
+                p => bounds[p as usize],
+            };
+            spec.decide(ins, bound, fold, &mut decisions);
+        } else {
+            let bounds = spec.watched_bounds(ins, region);
+            spec.decide(ins, |k| bounds[k], fold, &mut decisions);
+        }
         if decisions.iter().all(|&d| d == KEEP) {
             return None;
         }
