@@ -21,11 +21,13 @@
 //!
 //! Where RevAA's ranges draw a wall, though, RevAA costs more than Hull itself (its
 //! loose ranges send the search down further: the bear takes about 1.5 times Hull's
-//! time in RevAA). So a sample of the tiles ([`SAMPLE_TILES`], spread over the image)
-//! is rendered first as above; where Hull resolved (confirmed or removed) more of their
+//! time in RevAA). So a sample of the tiles ([`SAMPLE_TILES`], at most a quarter of
+//! the image, spread over it) is rendered first as above; where Hull resolved (confirmed or removed) more of their
 //! unconfirmed hits than [`WALL_SHARE`] of their hits (at least [`WALL_MIN`]), RevAA
 //! draws walls here and the other tiles are rendered in Hull throughout, else like the
-//! sample. The sample is part of the image, so the choice costs no extra render.
+//! sample. The sample is part of the image, so the choice costs no extra render; it
+//! only decides the cost, never the image's soundness or its walls (every tile
+//! searches its unconfirmed hits again in Hull).
 //!
 //! Sound: each search is Algorithm 1 in a sound arithmetic from the depths culling
 //! left (culling, in RevAA, drops only what its ranges exclude), so neither misses a
@@ -43,7 +45,8 @@ use model_ir::arith::arith_hull::HullArith as Hull;
 use model_ir::arith::arith_revaa::RevAaArith as RevAa;
 use model_ir::shape::Shape;
 
-/// Tiles rendered first, whose counts choose how the others are.
+/// Tiles rendered first (at most, and at most a quarter of the image's), whose counts
+/// choose how the others are.
 pub const SAMPLE_TILES: usize = 8;
 /// How many of the sample's unconfirmed hits Hull must resolve, as a share of its hits,
 /// for the other tiles to be rendered in Hull throughout.
@@ -61,7 +64,9 @@ pub fn render_auto<S: Shape>(shape: &S, opts: &RenderOptions) -> Result<RenderRe
 /// saw walls, in Hull; the outputs in tile order.
 fn schedule<S: Shape>(tiles: &Tiles<'_, S>) -> Vec<Option<TileOut>> {
     let n = tiles.len();
-    let stride = (n / SAMPLE_TILES).max(1);
+    // At most a quarter of the image: where RevAA draws walls the sample costs more
+    // than Hull would have.
+    let stride = n / (n / 4).clamp(1, SAMPLE_TILES);
     let (sample, rest): (Vec<usize>, Vec<usize>) =
         (0..n).partition(|k| k % stride == stride / 2 || stride == 1);
     let first = tiles.run(&sample, auto_tile::<S>);
