@@ -4,19 +4,22 @@
 //! once per instruction and batch, not once per evaluation, and each instruction's loop
 //! over the lanes is a tight loop of one operation.
 //!
-//! Points (`f64`) and intervals ([`Interval`], and its four-lane packs [`IntervalX4`])
-//! run the kernels of this module: eight lanes per instruction of the processor's
+//! Points (`f64`), intervals ([`Interval`], and its four-lane packs [`IntervalX4`])
+//! and forward-mode gradients ([`Dual<f64>`], [`Tape::eval_gradient_batch`]) run the
+//! kernels of this module: eight lanes per instruction of the processor's
 //! fastest path of [`arith_core::lanes`] (AVX-512 with per-instruction rounding, AVX2,
 //! or emulated), over one flat register file per thread ([`regfile`]) that a batch
 //! reuses without allocating. Points are bit for bit what [`Tape::eval`] gives; interval
 //! bounds are the same numbers on the AVX-512 and emulated paths (a zero bound may
-//! differ in sign) and enclose them within an ulp per rounding on the AVX2 path. Every
+//! differ in sign) and enclose them within an ulp per rounding on the AVX2 path;
+//! gradients are bit for bit what [`Tape::eval`] gives over `Dual<f64>`. Every
 //! other type runs the generic loop below, whose every lane is, bit for bit, what
 //! [`Tape::eval`] gives on that lane's inputs.
 //!
 //! Lanes may themselves be SIMD packs ([`arith_core::pack::Pack`]: four ray forms in
 //! one value), so a batch of `n` packs evaluates `4 n` ray segments.
 
+mod gradients;
 mod intervals;
 mod points;
 mod regfile;
@@ -26,6 +29,7 @@ pub(crate) use regfile::Slots;
 use crate::instr::{Instr, Op};
 use crate::tape::Tape;
 use arith_core::branch::Step;
+use arith_core::dual::Dual;
 use arith_core::lanes::{dispatch, F64x8, Path, LANES};
 use arith_core::simd::f64x4;
 use arith_core::{rfunc, Real};
@@ -183,9 +187,69 @@ impl Tape {
                     }
                 },
             );
+        } else if id == TypeId::of::<Dual<f64>>() {
+            self.batch_gradients(
+                path,
+                n,
+                |q, l| {
+                    let d: &Dual<f64> = cast_ref(&[x, y, z][q][l]);
+                    (d.v, d.g)
+                },
+                |d| out.push(cast(d)),
+            );
         } else {
             self.batch_generic(x, y, z, out);
         }
+    }
+
+    /// The value and gradient of the tape at every point `(x[l], y[l], z[l])`, into
+    /// `out` (cleared first), by forward-mode differentiation over eight lanes on this
+    /// process's lane path ([`Path::current`]): `out[l]` is, bit for bit, what
+    /// [`Tape::eval`] gives over [`Dual<f64>`] at that point (each input's partial 1 by
+    /// itself, 0 by the others). One evaluation per point gives a normal's direction.
+    /// The three slices have the same length.
+    ///
+    /// ```
+    /// use arith_core::dual::Dual;
+    /// use arith_core::Real;
+    /// use model_ir::Tape;
+    /// // The unit ball: f = 1 - x^2 - y^2 - z^2, gradient (-2x, -2y, -2z).
+    /// let t = Tape::record(|x, y, z| (x.sqr() + y.sqr() + z.sqr()).rsub(1.0));
+    /// let xs: Vec<f64> = (0..10).map(|k| k as f64 / 10.0).collect();
+    /// let (ys, zs) = (vec![0.5; 10], vec![-0.25; 10]);
+    /// let mut out = Vec::new();
+    /// t.eval_gradient_batch(&xs, &ys, &zs, &mut out);
+    /// for (d, &x) in out.iter().zip(&xs) {
+    ///     assert_eq!(d.g, [-2.0 * x, -1.0, 0.5]);
+    ///     assert_eq!(*d, t.eval(Dual::var(x, 0), Dual::var(0.5, 1), Dual::var(-0.25, 2)));
+    /// }
+    /// ```
+    pub fn eval_gradient_batch(&self, x: &[f64], y: &[f64], z: &[f64], out: &mut Vec<Dual<f64>>) {
+        self.eval_gradient_batch_on(Path::current(), x, y, z, out)
+    }
+
+    /// [`Tape::eval_gradient_batch`] on the lane path `path` (a path this processor
+    /// lacks runs emulated; every path gives the same bits).
+    pub fn eval_gradient_batch_on(
+        &self,
+        path: Path,
+        x: &[f64],
+        y: &[f64],
+        z: &[f64],
+        out: &mut Vec<Dual<f64>>,
+    ) {
+        let n = x.len();
+        assert!(
+            y.len() == n && z.len() == n,
+            "eval_gradient_batch: inputs of unequal lengths"
+        );
+        out.clear();
+        if n == 0 {
+            return;
+        }
+        let seed = |q: usize| core::array::from_fn(|k| if k == q { 1.0 } else { 0.0 });
+        let seeds: [[f64; 3]; 3] = [seed(0), seed(1), seed(2)];
+        self.batch_gradients(path, n, |q, l| ([x, y, z][q][l], seeds[q]), |d| out.push(d));
     }
 
     /// The register slots of the batch kernels.
@@ -258,6 +322,53 @@ impl Tape {
             for l in 0..n {
                 let j = step * (l / LANES);
                 put(l % LANES, (&file[r + 2 * j].0, &file[r + 2 * j + 1].0));
+            }
+        });
+    }
+
+    /// The gradient kernel over `n` lanes, lane `l` of input `q` (its value and
+    /// partials) from `lane(q, l)`; each result handed to `put` in order.
+    fn batch_gradients(
+        &self,
+        path: Path,
+        n: usize,
+        lane: impl Fn(usize, usize) -> (f64, [f64; 3]),
+        mut put: impl FnMut(Dual<f64>),
+    ) {
+        use gradients::PARTS;
+        let chunks = n.div_ceil(LANES);
+        let slots = self.slots();
+        let file_len = PARTS * slots.count * chunks;
+        regfile::with_file(file_len, 3 * PARTS * chunks, |file, inputs| {
+            for q in 0..3 {
+                for j in 0..chunks {
+                    let v: [(f64, [f64; 3]); LANES] =
+                        core::array::from_fn(|l| lane(q, (j * LANES + l).min(n - 1)));
+                    let at = PARTS * (q * chunks + j);
+                    inputs[at] = F64x8(v.map(|d| d.0));
+                    for k in 0..3 {
+                        inputs[at + 1 + k] = F64x8(v.map(|d| d.1[k]));
+                    }
+                }
+            }
+            let ins = self.instructions();
+            let kernel = gradients::Gradients {
+                ins,
+                slots,
+                file,
+                inputs,
+                chunks,
+            };
+            dispatch(path, kernel);
+            let r = PARTS * slots.slot[ins.len() - 1] as usize * chunks;
+            let step = usize::from(ins[ins.len() - 1].op != Op::Const);
+            for l in 0..n {
+                let b = r + PARTS * step * (l / LANES);
+                let part = |k: usize| file[b + k].0[l % LANES];
+                put(Dual {
+                    v: part(0),
+                    g: [part(1), part(2), part(3)],
+                });
             }
         });
     }

@@ -22,21 +22,21 @@ pub(crate) struct Points<'a> {
 /// `f64`'s [`Real::min`] per lane: equal values give the or of their bits (a set sign
 /// wins), otherwise `f64::min` (a NaN operand gives the other one).
 #[inline(always)]
-fn real_min<I: Isa>(s: I, a: I::V, b: I::V) -> I::V {
+pub(super) fn real_min<I: Isa>(s: I, a: I::V, b: I::V) -> I::V {
     let m = s.select(s.unord(b, b), a, s.min(a, b));
     s.select(s.eq(a, b), s.or_bits(a, b), m)
 }
 
 /// `f64`'s [`Real::max`] per lane (equal values: the and of their bits).
 #[inline(always)]
-fn real_max<I: Isa>(s: I, a: I::V, b: I::V) -> I::V {
+pub(super) fn real_max<I: Isa>(s: I, a: I::V, b: I::V) -> I::V {
     let m = s.select(s.unord(b, b), a, s.max(a, b));
     s.select(s.eq(a, b), s.and_bits(a, b), m)
 }
 
 /// `f64`'s [`Real::sqrt`] per lane: the root of `x` where `x > 0`, else of `+0`.
 #[inline(always)]
-fn real_sqrt<I: Isa>(s: I, a: I::V) -> I::V {
+pub(super) fn real_sqrt<I: Isa>(s: I, a: I::V) -> I::V {
     let zero = s.splat(0.0);
     s.sqrt(s.select(s.lt(zero, a), a, zero))
 }

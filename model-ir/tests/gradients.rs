@@ -1,0 +1,243 @@
+//! The gradient kernel (a value and three partials per lane over eight-lane blocks) on
+//! every lane path this processor has, against the scalar evaluation over
+//! `Dual<f64>`: every part of every lane bit for bit (NaN for NaN), on recorded
+//! expressions, on random tapes of every instruction with random operands and
+//! constants, at ordinary and special points (zeros of both signs, infinities, NaN,
+//! huge and subnormal numbers), and with the inputs' partials seeded at will.
+
+use arith_core::dual::Dual;
+use arith_core::lanes::Path;
+use arith_core::testkit::checks::{cases, run};
+use arith_core::testkit::expr::{expr_strategy, Expr};
+use model_ir::{Builder, Instr, Op, Tape, Val};
+use proptest::prelude::*;
+use proptest::test_runner::TestCaseError;
+
+/// Every available path; the others are named on standard error.
+fn paths() -> Vec<Path> {
+    Path::ALL
+        .into_iter()
+        .filter(|p| {
+            let ok = p.available();
+            if !ok {
+                eprintln!("gradients: skipped the {p} path (this processor lacks it)");
+            }
+            ok
+        })
+        .collect()
+}
+
+fn same(a: f64, b: f64) -> bool {
+    a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan())
+}
+
+fn same_dual(a: &Dual<f64>, b: &Dual<f64>) -> bool {
+    same(a.v, b.v) && (0..3).all(|k| same(a.g[k], b.g[k]))
+}
+
+fn point() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        8 => -3.0..3.0f64,
+        1 => prop::sample::select(vec![
+            0.0,
+            -0.0,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+            1e308,
+            -1e300,
+            5e-324,
+            0.5,
+            1.0,
+        ]),
+    ]
+}
+
+/// `eval_gradient_batch_on` against the scalar dual evaluation at each point.
+fn check_points(
+    t: &Tape,
+    pts: &[[f64; 3]],
+    what: &dyn std::fmt::Display,
+) -> Result<(), TestCaseError> {
+    let col = |k: usize| pts.iter().map(|p| p[k]).collect::<Vec<f64>>();
+    let (x, y, z) = (col(0), col(1), col(2));
+    for path in paths() {
+        let mut out = Vec::new();
+        t.eval_gradient_batch_on(path, &x, &y, &z, &mut out);
+        prop_assert_eq!(out.len(), pts.len());
+        for (l, o) in out.iter().enumerate() {
+            let s = t.eval(Dual::var(x[l], 0), Dual::var(y[l], 1), Dual::var(z[l], 2));
+            prop_assert!(
+                same_dual(o, &s),
+                "{path}, lane {l} at {:?}: {o:?} batched, {s:?} scalar\n{what}",
+                pts[l]
+            );
+        }
+    }
+    Ok(())
+}
+
+#[test]
+fn gradient_batches_give_the_dual_bits() {
+    let pts = prop::collection::vec([point(), point(), point()], 1..40);
+    run(
+        "kernel gradients",
+        cases(256),
+        (expr_strategy(6, 3), pts),
+        |(e, pts): (Expr, Vec<[f64; 3]>)| {
+            let t = Tape::record(|x, y, z| e.eval(&[x, y, z]));
+            check_points(&t, &pts, &e)
+        },
+    );
+}
+
+/// Constants an instruction may carry: ordinary, zeros, infinities, NaN.
+fn constant() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        6 => -4.0..4.0f64,
+        1 => prop::sample::select(vec![0.0, -0.0, 2.0, f64::INFINITY, f64::NEG_INFINITY, f64::NAN]),
+    ]
+}
+
+/// One random instruction: an op (not an input), its operands among the registers so
+/// far (as fractions of their count), its exponent and constant.
+type Draw = (usize, [f64; 3], i32, f64);
+
+fn draws() -> impl Strategy<Value = Vec<Draw>> {
+    let ops = Op::ALL.len() - 3;
+    prop::collection::vec(
+        (
+            0..ops,
+            [0.0..1.0f64, 0.0..1.0, 0.0..1.0],
+            -3..5i32,
+            constant(),
+        ),
+        1..24,
+    )
+}
+
+/// A tape of the drawn instructions after the three inputs, summing the last ones, so
+/// that every instruction of the set can be exercised with any operands.
+fn random_tape(ds: &[Draw]) -> Tape {
+    let mut b = Builder::new();
+    let mut regs = vec![
+        b.emit(Instr::new(Op::X, 0, 0, 0, 0.0)),
+        b.emit(Instr::new(Op::Y, 0, 0, 0, 0.0)),
+        b.emit(Instr::new(Op::Z, 0, 0, 0, 0.0)),
+    ];
+    for &(op, f, n, c) in ds {
+        let op = Op::ALL[3 + op];
+        let pick = |k: usize| regs[(f[k] * regs.len() as f64) as usize % regs.len()];
+        let mut i = Instr::new(op, pick(0), pick(1), n, c);
+        if op == Op::Select {
+            i.e = pick(2);
+        }
+        let r = b.emit(i);
+        regs.push(r);
+    }
+    let k = regs.len();
+    let sum = b.emit(Instr::new(Op::Add, regs[k - 1], regs[k / 2], 0, 0.0));
+    b.finish(Val::R(sum))
+}
+
+#[test]
+fn every_instruction_gives_the_dual_bits() {
+    let pts = prop::collection::vec([point(), point(), point()], 1..30);
+    run(
+        "kernel gradients, every instruction",
+        cases(512),
+        (draws(), pts),
+        |(ds, pts)| {
+            let t = random_tape(&ds);
+            check_points(&t, &pts, &t)
+        },
+    );
+}
+
+/// Each instruction alone, on both operands' ordinary and special values.
+#[test]
+fn each_instruction_alone() {
+    let vals = [
+        -2.5,
+        -1.0,
+        -0.0,
+        0.0,
+        0.25,
+        0.5,
+        1.0,
+        3.0,
+        1e308,
+        5e-324,
+        f64::INFINITY,
+        f64::NAN,
+    ];
+    let pts: Vec<[f64; 3]> = vals
+        .iter()
+        .flat_map(|&a| vals.iter().map(move |&b| [a, b, 0.75]))
+        .collect();
+    for op in &Op::ALL[3..] {
+        for (n, c) in [
+            (0, 0.0),
+            (1, -0.0),
+            (2, 1.5),
+            (-3, -2.0),
+            (3, f64::INFINITY),
+        ] {
+            let mut b = Builder::new();
+            let x = b.emit(Instr::new(Op::X, 0, 0, 0, 0.0));
+            let y = b.emit(Instr::new(Op::Y, 0, 0, 0, 0.0));
+            let z = b.emit(Instr::new(Op::Z, 0, 0, 0, 0.0));
+            let mut i = Instr::new(*op, x, y, n, c);
+            i.e = z;
+            let r = b.emit(i);
+            let t = b.finish(Val::R(r));
+            if let Err(e) = check_points(&t, &pts, &t) {
+                panic!("{}: {e}", op.name());
+            }
+        }
+    }
+}
+
+/// Inputs with any partials (not only the unit seeds): `eval_batch` over `Dual<f64>`
+/// runs the kernel and gives the scalar bits.
+#[test]
+fn seeded_dual_batches_give_the_dual_bits() {
+    let dual = || (point(), [point(), point(), point()]).prop_map(|(v, g)| Dual { v, g });
+    let inputs = prop::collection::vec([dual(), dual(), dual()], 1..30);
+    run(
+        "kernel gradients, seeded",
+        cases(256),
+        (expr_strategy(5, 3), inputs),
+        |(e, ins)| {
+            let t = Tape::record(|x, y, z| e.eval(&[x, y, z]));
+            let col = |k: usize| ins.iter().map(|p| p[k].clone()).collect::<Vec<_>>();
+            let (x, y, z) = (col(0), col(1), col(2));
+            for path in paths() {
+                let mut out = Vec::new();
+                t.eval_batch_on(path, &x, &y, &z, &mut out);
+                for (l, o) in out.iter().enumerate() {
+                    let s = t.eval(x[l].clone(), y[l].clone(), z[l].clone());
+                    prop_assert!(same_dual(o, &s), "{path}, lane {l}: {o:?} vs {s:?}\n{e}");
+                }
+            }
+            Ok(())
+        },
+    );
+}
+
+/// A constant result, a constant read across blocks, and batches of one lane.
+#[test]
+fn constants_and_short_batches() {
+    let t = Tape::record(|x, y, _z| {
+        use arith_core::Real;
+        x.max(&Real::constant(0.5)) * y.min(&Real::constant(-0.25))
+    });
+    let p: Vec<f64> = (0..41).map(|k| k as f64 / 20.0 - 1.0).collect();
+    let pts: Vec<[f64; 3]> = p.iter().map(|&v| [v, -v, v]).collect();
+    check_points(&t, &pts, &t).unwrap();
+    check_points(&t, &pts[..1], &t).unwrap();
+    let mut b = Builder::new();
+    let c = b.emit(Instr::new(Op::Const, 0, 0, 0, 2.5));
+    let t = b.finish(Val::R(c));
+    check_points(&t, &pts, &t).unwrap();
+}
