@@ -49,12 +49,20 @@ fn constant<I: Isa>(s: I, c: f64) -> D<I::V> {
     }
 }
 
+/// `[f(0), f(1), f(2)]`: the three partials, written out (`array::map` and `from_fn`
+/// need not inline, and a lane operation outside the path's target-feature function
+/// becomes a call).
+#[inline(always)]
+fn each<V>(f: impl Fn(usize) -> V) -> [V; 3] {
+    [f(0), f(1), f(2)]
+}
+
 /// Value `v`, partials `a.g * dv` (the chain rule of a unary function).
 #[inline(always)]
 fn chain<I: Isa>(s: I, a: D<I::V>, v: I::V, dv: I::V) -> D<I::V> {
     D {
         v,
-        g: a.g.map(|g| s.mul(g, dv)),
+        g: each(|k| s.mul(a.g[k], dv)),
     }
 }
 
@@ -77,7 +85,7 @@ fn pick<I: Isa>(s: I, m: I::M, a: D<I::V>, b: D<I::V>) -> D<I::V> {
 fn neg<I: Isa>(s: I, a: D<I::V>) -> D<I::V> {
     D {
         v: s.neg(a.v),
-        g: a.g.map(|g| s.neg(g)),
+        g: each(|k| s.neg(a.g[k])),
     }
 }
 
@@ -105,7 +113,7 @@ fn add_c<I: Isa>(s: I, a: D<I::V>, c: I::V) -> D<I::V> {
 fn mul_c<I: Isa>(s: I, a: D<I::V>, c: I::V) -> D<I::V> {
     D {
         v: s.mul(a.v, c),
-        g: a.g.map(|g| s.mul(g, c)),
+        g: each(|k| s.mul(a.g[k], c)),
     }
 }
 
@@ -114,7 +122,7 @@ fn mul_c<I: Isa>(s: I, a: D<I::V>, c: I::V) -> D<I::V> {
 fn mul<I: Isa>(s: I, a: D<I::V>, b: D<I::V>) -> D<I::V> {
     D {
         v: s.mul(a.v, b.v),
-        g: core::array::from_fn(|k| s.add(s.mul(a.g[k], b.v), s.mul(b.g[k], a.v))),
+        g: each(|k| s.add(s.mul(a.g[k], b.v), s.mul(b.g[k], a.v))),
     }
 }
 
@@ -124,7 +132,7 @@ fn div<I: Isa>(s: I, a: D<I::V>, b: D<I::V>) -> D<I::V> {
     let q = s.div(a.v, b.v);
     D {
         v: q,
-        g: core::array::from_fn(|k| s.div(s.sub(a.g[k], s.mul(b.g[k], q)), b.v)),
+        g: each(|k| s.div(s.sub(a.g[k], s.mul(b.g[k], q)), b.v)),
     }
 }
 
@@ -161,7 +169,7 @@ fn hypot<I: Isa>(s: I, a: D<I::V>, b: D<I::V>) -> D<I::V> {
     let (ra, rb) = (unit(a.v), unit(b.v));
     D {
         v: h,
-        g: core::array::from_fn(|k| s.add(s.mul(ra, a.g[k]), s.mul(rb, b.g[k]))),
+        g: each(|k| s.add(s.mul(ra, a.g[k]), s.mul(rb, b.g[k]))),
     }
 }
 
@@ -227,9 +235,11 @@ fn value_slope(i: &Instr, x: f64) -> (f64, f64) {
 #[inline(always)]
 fn scalar_chain<I: Isa>(s: I, i: &Instr, a: D<I::V>) -> D<I::V> {
     let x = s.store(a.v);
-    let vs: [(f64, f64); LANES] = core::array::from_fn(|l| value_slope(i, x.0[l]));
-    let v = s.load(&F64x8(vs.map(|p| p.0)));
-    let dv = s.load(&F64x8(vs.map(|p| p.1)));
+    let (mut v, mut dv) = (F64x8::default(), F64x8::default());
+    for l in 0..LANES {
+        (v.0[l], dv.0[l]) = value_slope(i, x.0[l]);
+    }
+    let (v, dv) = (s.load(&v), s.load(&dv));
     chain(s, a, v, dv)
 }
 
@@ -348,7 +358,7 @@ fn instruction<I: Isa>(
         Op::MulC => un!(|x| mul_c(s, x, c)),
         Op::DivC => un!(|x| D {
             v: s.div(x.v, c),
-            g: x.g.map(|g| s.div(g, c)),
+            g: each(|k| s.div(x.g[k], c)),
         }),
         // `Real::rdiv` for duals: `recip(x) * c`.
         Op::RDivC => un!(|x| mul_c(s, recip(s, x), c)),
