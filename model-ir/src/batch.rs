@@ -12,7 +12,12 @@
 //! reuses without allocating. Points are bit for bit what [`Tape::eval`] gives; interval
 //! bounds are the same numbers on the AVX-512 and emulated paths (a zero bound may
 //! differ in sign) and enclose them within an ulp per rounding on the AVX2 path;
-//! gradients are bit for bit what [`Tape::eval`] gives over `Dual<f64>`. Every
+//! gradients are bit for bit what [`Tape::eval`] gives over `Dual<f64>`. Revised affine
+//! forms ([`RevAa<N>`] for one and three symbols, and their four-form packs) run a
+//! kernel of their affine operations, product, square, `min` and `max` in lanes, every
+//! other instruction lane by lane through the scalar form: bit for bit the scalar forms
+//! on the AVX-512 and emulated paths, as sound on the AVX2 path (whose square may take
+//! a radius bound an ulp higher). Every
 //! other type runs the generic loop below, whose every lane is, bit for bit, what
 //! [`Tape::eval`] gives on that lane's inputs.
 //!
@@ -23,6 +28,7 @@ mod gradients;
 mod intervals;
 mod points;
 mod regfile;
+mod revaa;
 
 pub(crate) use regfile::Slots;
 
@@ -31,9 +37,11 @@ use crate::tape::Tape;
 use arith_core::branch::Step;
 use arith_core::dual::Dual;
 use arith_core::lanes::{dispatch, F64x8, Path, LANES};
+use arith_core::pack::{Pack, LANES as PACK};
 use arith_core::simd::f64x4;
 use arith_core::{rfunc, Real};
 use arith_ia::{Interval, IntervalX4};
+use arith_revaa::{RevAa, RevAaX4};
 use std::any::{Any, TypeId};
 use std::cell::RefCell;
 
@@ -187,6 +195,14 @@ impl Tape {
                     }
                 },
             );
+        } else if id == TypeId::of::<RevAa<1>>() {
+            self.batch_revaa::<1, R>(path, [x, y, z], out);
+        } else if id == TypeId::of::<RevAa<3>>() {
+            self.batch_revaa::<3, R>(path, [x, y, z], out);
+        } else if id == TypeId::of::<RevAaX4<1>>() {
+            self.batch_revaa_packs::<1, R>(path, [x, y, z], out);
+        } else if id == TypeId::of::<RevAaX4<3>>() {
+            self.batch_revaa_packs::<3, R>(path, [x, y, z], out);
         } else if id == TypeId::of::<Dual<f64>>() {
             self.batch_gradients(
                 path,
@@ -369,6 +385,80 @@ impl Tape {
                     v: part(0),
                     g: [part(1), part(2), part(3)],
                 });
+            }
+        });
+    }
+
+    /// The RevAA kernel over lanes of type `RevAa<N>` (`R` is that type).
+    fn batch_revaa<const N: usize, R: Real>(&self, path: Path, src: [&[R]; 3], out: &mut Vec<R>) {
+        let lane = |q: usize, l: usize| *cast_ref::<R, RevAa<N>>(&src[q][l]);
+        self.revaa_kernel::<N>(path, src[0].len(), lane, |_, f| out.push(cast(f)));
+    }
+
+    /// The RevAA kernel over four-form packs `RevAaX4<N>` (`R` is that type).
+    fn batch_revaa_packs<const N: usize, R: Real>(
+        &self,
+        path: Path,
+        src: [&[R]; 3],
+        out: &mut Vec<R>,
+    ) {
+        let lane =
+            |q: usize, l: usize| cast_ref::<R, RevAaX4<N>>(&src[q][l / PACK]).unpack()[l % PACK];
+        let mut lanes = [RevAa::<N>::constant(0.0); PACK];
+        self.revaa_kernel::<N>(path, PACK * src[0].len(), lane, |l, f| {
+            lanes[l % PACK] = f;
+            if l % PACK == PACK - 1 {
+                out.push(cast(RevAaX4::<N>::pack(lanes)));
+            }
+        });
+    }
+
+    /// The RevAA kernel over `n` lanes, lane `l` of input `q` from `lane(q, l)`; each
+    /// result lane `l` handed to `put(l, form)` in order.
+    fn revaa_kernel<const N: usize>(
+        &self,
+        path: Path,
+        n: usize,
+        lane: impl Fn(usize, usize) -> RevAa<N>,
+        mut put: impl FnMut(usize, RevAa<N>),
+    ) {
+        let parts = N + 2;
+        let chunks = n.div_ceil(LANES);
+        let slots = self.slots();
+        let file_len = parts * slots.count * chunks;
+        regfile::with_file(file_len, 3 * parts * chunks, |file, inputs| {
+            for q in 0..3 {
+                for j in 0..chunks {
+                    let v: [RevAa<N>; LANES] =
+                        core::array::from_fn(|l| lane(q, (j * LANES + l).min(n - 1)));
+                    let at = parts * (q * chunks + j);
+                    inputs[at] = F64x8(v.map(|f| f.x0));
+                    for k in 0..N {
+                        inputs[at + 1 + k] = F64x8(v.map(|f| f.xs[k]));
+                    }
+                    inputs[at + N + 1] = F64x8(v.map(|f| f.e));
+                }
+            }
+            let ins = self.instructions();
+            let kernel = revaa::RevAas::<N> {
+                ins,
+                slots,
+                file,
+                inputs,
+                chunks,
+            };
+            dispatch(path, kernel);
+            let r = parts * slots.slot[ins.len() - 1] as usize * chunks;
+            let step = usize::from(ins[ins.len() - 1].op != Op::Const);
+            for l in 0..n {
+                let b = r + parts * step * (l / LANES);
+                let part = |k: usize| file[b + k].0[l % LANES];
+                let f = RevAa::<N>::from_parts(
+                    part(0),
+                    core::array::from_fn(|k| part(1 + k)),
+                    part(N + 1),
+                );
+                put(l, f);
             }
         });
     }

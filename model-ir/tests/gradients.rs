@@ -5,27 +5,15 @@
 //! constants, at ordinary and special points (zeros of both signs, infinities, NaN,
 //! huge and subnormal numbers), and with the inputs' partials seeded at will.
 
+mod common;
+
 use arith_core::dual::Dual;
-use arith_core::lanes::Path;
 use arith_core::testkit::checks::{cases, run};
 use arith_core::testkit::expr::{expr_strategy, Expr};
+use common::{draws, paths, random_tape};
 use model_ir::{Builder, Instr, Op, Tape, Val};
 use proptest::prelude::*;
 use proptest::test_runner::TestCaseError;
-
-/// Every available path; the others are named on standard error.
-fn paths() -> Vec<Path> {
-    Path::ALL
-        .into_iter()
-        .filter(|p| {
-            let ok = p.available();
-            if !ok {
-                eprintln!("gradients: skipped the {p} path (this processor lacks it)");
-            }
-            ok
-        })
-        .collect()
-}
 
 fn same(a: f64, b: f64) -> bool {
     a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan())
@@ -89,55 +77,6 @@ fn gradient_batches_give_the_dual_bits() {
             check_points(&t, &pts, &e)
         },
     );
-}
-
-/// Constants an instruction may carry: ordinary, zeros, infinities, NaN.
-fn constant() -> impl Strategy<Value = f64> {
-    prop_oneof![
-        6 => -4.0..4.0f64,
-        1 => prop::sample::select(vec![0.0, -0.0, 2.0, f64::INFINITY, f64::NEG_INFINITY, f64::NAN]),
-    ]
-}
-
-/// One random instruction: an op (not an input), its operands among the registers so
-/// far (as fractions of their count), its exponent and constant.
-type Draw = (usize, [f64; 3], i32, f64);
-
-fn draws() -> impl Strategy<Value = Vec<Draw>> {
-    let ops = Op::ALL.len() - 3;
-    prop::collection::vec(
-        (
-            0..ops,
-            [0.0..1.0f64, 0.0..1.0, 0.0..1.0],
-            -3..5i32,
-            constant(),
-        ),
-        1..24,
-    )
-}
-
-/// A tape of the drawn instructions after the three inputs, summing the last ones, so
-/// that every instruction of the set can be exercised with any operands.
-fn random_tape(ds: &[Draw]) -> Tape {
-    let mut b = Builder::new();
-    let mut regs = vec![
-        b.emit(Instr::new(Op::X, 0, 0, 0, 0.0)),
-        b.emit(Instr::new(Op::Y, 0, 0, 0, 0.0)),
-        b.emit(Instr::new(Op::Z, 0, 0, 0, 0.0)),
-    ];
-    for &(op, f, n, c) in ds {
-        let op = Op::ALL[3 + op];
-        let pick = |k: usize| regs[(f[k] * regs.len() as f64) as usize % regs.len()];
-        let mut i = Instr::new(op, pick(0), pick(1), n, c);
-        if op == Op::Select {
-            i.e = pick(2);
-        }
-        let r = b.emit(i);
-        regs.push(r);
-    }
-    let k = regs.len();
-    let sum = b.emit(Instr::new(Op::Add, regs[k - 1], regs[k / 2], 0, 0.0));
-    b.finish(Val::R(sum))
 }
 
 #[test]

@@ -5,32 +5,21 @@
 //! the exact value of the function at random points of its box, also over boxes with
 //! infinite, zero and huge bounds (the lanes redone on the scalar path).
 
+mod common;
+
 use arith_core::lanes::Path;
 use arith_core::pack::Pack;
 use arith_core::testkit::checks::{cases, check_point, run};
 use arith_core::testkit::expr::{expr_strategy, Expr};
 use arith_core::{Range, Real};
 use arith_ia::{Interval, IntervalX4};
+use common::paths;
 use model_ir::Tape;
 use proptest::prelude::*;
 use proptest::test_runner::TestCaseError;
 
 fn recorded(e: &Expr) -> Tape {
     Tape::record(|x, y, z| e.eval(&[x, y, z]))
-}
-
-/// Every available path; the others are named on standard error.
-fn paths() -> Vec<Path> {
-    Path::ALL
-        .into_iter()
-        .filter(|p| {
-            let ok = p.available();
-            if !ok {
-                eprintln!("kernels: skipped the {p} path (this processor lacks it)");
-            }
-            ok
-        })
-        .collect()
 }
 
 type Side = (f64, f64);
