@@ -16,8 +16,9 @@
 //! forms ([`RevAa<N>`] for one and three symbols, and their four-form packs) run a
 //! kernel of their affine operations, product, square, `min` and `max` in lanes, every
 //! other instruction lane by lane through the scalar form: bit for bit the scalar forms
-//! on the AVX-512 and emulated paths, as sound on the AVX2 path (whose square may take
-//! a radius bound an ulp higher). Every
+//! on the AVX-512 path, as sound on the AVX2 path (whose square may take a radius bound
+//! an ulp higher); the emulated path runs them in the generic loop, which is faster
+//! there and gives the same bits. Every
 //! other type runs the generic loop below, whose every lane is, bit for bit, what
 //! [`Tape::eval`] gives on that lane's inputs.
 //!
@@ -195,6 +196,10 @@ impl Tape {
                     }
                 },
             );
+        } else if is_revaa::<R>() && (path == Path::Emulated || !path.available()) {
+            // Without SIMD lanes the directed sums of `min` and `max` cost more than the
+            // generic loop over four-form packs, which gives the same bits.
+            self.batch_generic(x, y, z, out);
         } else if id == TypeId::of::<RevAa<1>>() {
             self.batch_revaa::<1, R>(path, [x, y, z], out);
         } else if id == TypeId::of::<RevAa<3>>() {
@@ -486,6 +491,18 @@ impl Tape {
         }
         give_spare(spare);
     }
+}
+
+/// Whether `R` is a revised affine form of the RevAA kernel.
+fn is_revaa<R: 'static>() -> bool {
+    let id = TypeId::of::<R>();
+    [
+        TypeId::of::<RevAa<1>>(),
+        TypeId::of::<RevAa<3>>(),
+        TypeId::of::<RevAaX4<1>>(),
+        TypeId::of::<RevAaX4<3>>(),
+    ]
+    .contains(&id)
 }
 
 /// `v` as the type `R` that it is (checked by the caller's `TypeId` test).

@@ -1,6 +1,7 @@
 //! The RevAA kernel (revised affine forms over eight-lane blocks: a centre, the input
 //! symbols' coefficients and the error term per lane) on every lane path this
-//! processor has: on the AVX-512 and emulated paths every part of every lane is the
+//! processor has (the emulated one runs the generic loop): on the AVX-512 and emulated
+//! paths every part of every lane is the
 //! scalar `RevAa<N>` evaluation's, bit for bit, for one and three symbols and for
 //! four-form packs, on recorded expressions and on random tapes of every instruction
 //! over random forms (zeros of both signs, huge, tiny, infinite and NaN parts); on

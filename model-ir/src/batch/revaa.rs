@@ -14,7 +14,9 @@
 //! AVX2 path, where any `W >= Σ|xi| + e` is as sound. `min` and `max` take a whole
 //! operand where the directed bounds decide the order (the scalar rule; the AVX2
 //! path's wider bounds decide no more lanes); every other lane of theirs, and every
-//! other instruction, runs the scalar operation lane by lane.
+//! other instruction, runs the scalar operation lane by lane. [`crate::Tape::eval_batch`]
+//! runs this kernel on the hardware paths; on the emulated path the directed sums cost
+//! more than the generic loop over four-form packs, which gives the same bits.
 
 use super::regfile::Slots;
 use crate::eval::apply;
