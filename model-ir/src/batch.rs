@@ -27,6 +27,7 @@
 
 mod gradients;
 mod intervals;
+mod parts;
 mod points;
 mod regfile;
 mod revaa;
@@ -45,6 +46,7 @@ use arith_ia::{Interval, IntervalX4};
 use arith_revaa::{RevAa, RevAaX4};
 use std::any::{Any, TypeId};
 use std::cell::RefCell;
+use std::marker::PhantomData;
 
 thread_local! {
     /// Spare register vectors per value type and thread, reused across batches.
@@ -356,41 +358,15 @@ impl Tape {
         lane: impl Fn(usize, usize) -> (f64, [f64; 3]),
         mut put: impl FnMut(Dual<f64>),
     ) {
-        use gradients::PARTS;
-        let chunks = n.div_ceil(LANES);
-        let slots = self.slots();
-        let file_len = PARTS * slots.count * chunks;
-        regfile::with_file(file_len, 3 * PARTS * chunks, |file, inputs| {
-            for q in 0..3 {
-                for j in 0..chunks {
-                    let v: [(f64, [f64; 3]); LANES] =
-                        core::array::from_fn(|l| lane(q, (j * LANES + l).min(n - 1)));
-                    let at = PARTS * (q * chunks + j);
-                    inputs[at] = F64x8(v.map(|d| d.0));
-                    for k in 0..3 {
-                        inputs[at + 1 + k] = F64x8(v.map(|d| d.1[k]));
-                    }
-                }
-            }
-            let ins = self.instructions();
-            let kernel = gradients::Gradients {
-                ins,
-                slots,
-                file,
-                inputs,
-                chunks,
-            };
-            dispatch(path, kernel);
-            let r = PARTS * slots.slot[ins.len() - 1] as usize * chunks;
-            let step = usize::from(ins[ins.len() - 1].op != Op::Const);
-            for l in 0..n {
-                let b = r + PARTS * step * (l / LANES);
-                let part = |k: usize| file[b + k].0[l % LANES];
-                put(Dual {
-                    v: part(0),
-                    g: [part(1), part(2), part(3)],
-                });
-            }
+        let stage = |q: usize, l: usize, p: &mut [f64]| {
+            let (v, g) = lane(q, l);
+            p.copy_from_slice(&[v, g[0], g[1], g[2]]);
+        };
+        self.batch_parts::<gradients::Duals>(path, n, stage, |_, p| {
+            put(Dual {
+                v: p[0],
+                g: [p[1], p[2], p[3]],
+            })
         });
     }
 
@@ -427,45 +403,68 @@ impl Tape {
         lane: impl Fn(usize, usize) -> RevAa<N>,
         mut put: impl FnMut(usize, RevAa<N>),
     ) {
-        let parts = N + 2;
+        let stage = |q: usize, l: usize, p: &mut [f64]| {
+            let f = lane(q, l);
+            p[0] = f.x0;
+            p[1..=N].copy_from_slice(&f.xs);
+            p[N + 1] = f.e;
+        };
+        self.batch_parts::<revaa::Forms<N>>(path, n, stage, |l, p| {
+            let xs = core::array::from_fn(|k| p[1 + k]);
+            put(l, RevAa::<N>::from_parts(p[0], xs, p[N + 1]))
+        });
+    }
+
+    /// A kernel over values of `P::PARTS` parts ([`parts`]) over `n` lanes: lane `l` of
+    /// input `q` written into its parts by `stage(q, l, parts)`, each result lane `l`
+    /// handed to `put(l, parts)` in order.
+    fn batch_parts<P: parts::PartOps>(
+        &self,
+        path: Path,
+        n: usize,
+        stage: impl Fn(usize, usize, &mut [f64]),
+        mut put: impl FnMut(usize, &[f64]),
+    ) {
+        let np = P::PARTS;
         let chunks = n.div_ceil(LANES);
         let slots = self.slots();
-        let file_len = parts * slots.count * chunks;
-        regfile::with_file(file_len, 3 * parts * chunks, |file, inputs| {
-            for q in 0..3 {
-                for j in 0..chunks {
-                    let v: [RevAa<N>; LANES] =
-                        core::array::from_fn(|l| lane(q, (j * LANES + l).min(n - 1)));
-                    let at = parts * (q * chunks + j);
-                    inputs[at] = F64x8(v.map(|f| f.x0));
-                    for k in 0..N {
-                        inputs[at + 1 + k] = F64x8(v.map(|f| f.xs[k]));
+        let mut buf = [0.0; parts::MAX_PARTS];
+        regfile::with_file(
+            np * slots.count * chunks,
+            3 * np * chunks,
+            |file, inputs| {
+                for q in 0..3 {
+                    for j in 0..chunks {
+                        let at = np * (q * chunks + j);
+                        for l in 0..LANES {
+                            stage(q, (j * LANES + l).min(n - 1), &mut buf[..np]);
+                            for (k, &v) in buf[..np].iter().enumerate() {
+                                inputs[at + k].0[l] = v;
+                            }
+                        }
                     }
-                    inputs[at + N + 1] = F64x8(v.map(|f| f.e));
                 }
-            }
-            let ins = self.instructions();
-            let kernel = revaa::RevAas::<N> {
-                ins,
-                slots,
-                file,
-                inputs,
-                chunks,
-            };
-            dispatch(path, kernel);
-            let r = parts * slots.slot[ins.len() - 1] as usize * chunks;
-            let step = usize::from(ins[ins.len() - 1].op != Op::Const);
-            for l in 0..n {
-                let b = r + parts * step * (l / LANES);
-                let part = |k: usize| file[b + k].0[l % LANES];
-                let f = RevAa::<N>::from_parts(
-                    part(0),
-                    core::array::from_fn(|k| part(1 + k)),
-                    part(N + 1),
-                );
-                put(l, f);
-            }
-        });
+                let ins = self.instructions();
+                let kernel = parts::Parts::<P> {
+                    ins,
+                    slots,
+                    file,
+                    inputs,
+                    chunks,
+                    kind: PhantomData,
+                };
+                dispatch(path, kernel);
+                let r = np * slots.slot[ins.len() - 1] as usize * chunks;
+                let step = usize::from(ins[ins.len() - 1].op != Op::Const);
+                for l in 0..n {
+                    let b = r + np * step * (l / LANES);
+                    for (k, v) in buf[..np].iter_mut().enumerate() {
+                        *v = file[b + k].0[l % LANES];
+                    }
+                    put(l, &buf[..np]);
+                }
+            },
+        );
     }
 
     /// The generic loop: one vector of values per register.

@@ -12,25 +12,34 @@
 //! `cos` and `powi` take their value and derivative lane by lane from the scalar
 //! functions, then the chain rule in lanes.
 
+use super::parts::PartOps;
 use super::points::{real_max, real_min, real_sqrt};
-use super::regfile::Slots;
 use crate::instr::{Instr, Op};
-use arith_core::lanes::{F64x8, Isa, Kernel, LANES};
+use arith_core::lanes::{F64x8, Isa, LANES};
 use arith_core::Real;
 
-/// Blocks per register and block index: the value, then the three partials.
-pub(crate) const PARTS: usize = 4;
+/// The gradient kernel's values ([`super::parts`]): four blocks per register and block
+/// index, the values, then the partials by `x`, `y`, `z`.
+pub(crate) struct Duals;
 
-/// One tape over `chunks` blocks of dual numbers: `file` holds [`PARTS`] blocks per
-/// slot and block index (slot `s`, block `c` at `PARTS * (s * chunks + c)`: the values,
-/// then the partials by `x`, `y`, `z`), `inputs` the blocks of `x`, `y`, `z` likewise.
-pub(crate) struct Gradients<'a> {
-    pub(crate) ins: &'a [Instr],
-    pub(crate) slots: &'a Slots,
-    pub(crate) file: &'a mut [F64x8],
-    pub(crate) inputs: &'a [F64x8],
-    pub(crate) chunks: usize,
+impl PartOps for Duals {
+    const PARTS: usize = PARTS;
+
+    #[inline(always)]
+    fn instruction<I: Isa>(
+        s: I,
+        i: &Instr,
+        file: &mut [F64x8],
+        o: usize,
+        ops: [(usize, usize); 3],
+        ch: usize,
+    ) {
+        instruction(s, i, file, o, ops, ch)
+    }
 }
+
+/// Blocks per register and block index.
+const PARTS: usize = 4;
 
 /// Eight dual numbers in registers: values and partials.
 #[derive(Clone, Copy)]
@@ -243,48 +252,6 @@ fn scalar_chain<I: Isa>(s: I, i: &Instr, a: D<I::V>) -> D<I::V> {
     chain(s, a, v, dv)
 }
 
-impl Kernel for Gradients<'_> {
-    type Output = ();
-
-    #[inline(always)]
-    fn run<I: Isa>(self, s: I) {
-        let Gradients {
-            ins,
-            slots,
-            file,
-            inputs,
-            chunks: ch,
-        } = self;
-        let slot = &slots.slot;
-        for (k, i) in ins.iter().enumerate() {
-            let at = |r: u32| PARTS * slot[r as usize] as usize * ch;
-            let o = at(k as u32);
-            match i.op {
-                Op::X | Op::Y | Op::Z => {
-                    let q = match i.op {
-                        Op::X => 0,
-                        Op::Y => 1,
-                        _ => 2,
-                    };
-                    let src = PARTS * q * ch;
-                    file[o..o + PARTS * ch].copy_from_slice(&inputs[src..src + PARTS * ch]);
-                }
-                // A constant's register holds its first block only (the same in every lane).
-                Op::Const => {
-                    file[o] = F64x8::splat(i.c);
-                    file[o + 1..o + PARTS].fill(F64x8::splat(0.0));
-                }
-                _ => {
-                    let (a, b, e) = (at(i.a), at(i.b), at(i.e));
-                    let step = |r: u32| PARTS * usize::from(ins[r as usize].op != Op::Const);
-                    let (sa, sb, se) = (step(i.a), step(i.b), step(i.e));
-                    instruction(s, i, file, o, [(a, sa), (b, sb), (e, se)], ch);
-                }
-            }
-        }
-    }
-}
-
 /// Eight dual numbers from the [`PARTS`] blocks at `file[k..]`.
 #[inline(always)]
 fn load<I: Isa>(s: I, file: &[F64x8], k: usize) -> D<I::V> {
@@ -295,10 +262,7 @@ fn load<I: Isa>(s: I, file: &[F64x8], k: usize) -> D<I::V> {
     }
 }
 
-/// Instruction `i` over every block: its result's blocks from `o` on, operand `k`'s
-/// block `j` at `ops[k].0 + ops[k].1 * j`. Each block's operands are read before its
-/// result is written (the result may take the slot of an operand read for the last
-/// time).
+/// [`PartOps::instruction`] for dual numbers.
 #[inline(always)]
 fn instruction<I: Isa>(
     s: I,

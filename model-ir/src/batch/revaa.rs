@@ -18,23 +18,32 @@
 //! runs this kernel on the hardware paths; on the emulated path the directed sums cost
 //! more than the generic loop over four-form packs, which gives the same bits.
 
-use super::regfile::Slots;
+use super::parts::{PartOps, MAX_PARTS};
 use crate::eval::apply;
 use crate::instr::{Instr, Op};
 use arith_core::affine_round::{k_lin, k_mul, slack, sqr_margin, TINY};
-use arith_core::lanes::{F64x8, Isa, Kernel, LANES};
+use arith_core::lanes::{F64x8, Isa, LANES};
 use arith_core::round::{ETA, U};
 use arith_revaa::RevAa;
 
-/// One tape over `chunks` blocks of forms: `file` holds `N + 2` blocks per slot and
-/// block index (slot `s`, block `c` at `(N + 2) * (s * chunks + c)`: the centres, the
-/// coefficients, the error terms), `inputs` the blocks of `x`, `y`, `z` likewise.
-pub(crate) struct RevAas<'a, const N: usize> {
-    pub(crate) ins: &'a [Instr],
-    pub(crate) slots: &'a Slots,
-    pub(crate) file: &'a mut [F64x8],
-    pub(crate) inputs: &'a [F64x8],
-    pub(crate) chunks: usize,
+/// The RevAA kernel's values ([`super::parts`]): `N + 2` blocks per register and block
+/// index, the centres, the coefficients, the error terms.
+pub(crate) struct Forms<const N: usize>;
+
+impl<const N: usize> PartOps for Forms<N> {
+    const PARTS: usize = N + 2;
+
+    #[inline(always)]
+    fn instruction<I: Isa>(
+        s: I,
+        i: &Instr,
+        file: &mut [F64x8],
+        o: usize,
+        ops: [(usize, usize); 3],
+        ch: usize,
+    ) {
+        instruction::<I, N>(s, i, file, o, ops, ch)
+    }
 }
 
 /// Eight forms in registers.
@@ -290,52 +299,6 @@ fn min_max<I: Isa, const N: usize>(
     (r, s.not(s.or(x_low, y_low)))
 }
 
-impl<const N: usize> Kernel for RevAas<'_, N> {
-    type Output = ();
-
-    #[inline(always)]
-    fn run<I: Isa>(self, s: I) {
-        let RevAas {
-            ins,
-            slots,
-            file,
-            inputs,
-            chunks: ch,
-        } = self;
-        let parts = N + 2;
-        let slot = &slots.slot;
-        for (k, i) in ins.iter().enumerate() {
-            let at = |r: u32| parts * slot[r as usize] as usize * ch;
-            let o = at(k as u32);
-            match i.op {
-                Op::X | Op::Y | Op::Z => {
-                    let q = match i.op {
-                        Op::X => 0,
-                        Op::Y => 1,
-                        _ => 2,
-                    };
-                    let src = parts * q * ch;
-                    file[o..o + parts * ch].copy_from_slice(&inputs[src..src + parts * ch]);
-                }
-                // A constant's register holds its first block only (the same in every lane).
-                Op::Const => {
-                    file[o] = F64x8::splat(i.c);
-                    file[o + 1..o + parts].fill(F64x8::splat(0.0));
-                }
-                _ => {
-                    let step = |r: u32| parts * usize::from(ins[r as usize].op != Op::Const);
-                    let ops = [
-                        (at(i.a), step(i.a)),
-                        (at(i.b), step(i.b)),
-                        (at(i.e), step(i.e)),
-                    ];
-                    instruction::<I, N>(s, i, file, o, ops, ch);
-                }
-            }
-        }
-    }
-}
-
 /// Eight forms from the `N + 2` blocks at `file[k..]`.
 #[inline(always)]
 fn load<I: Isa, const N: usize>(s: I, file: &[F64x8], k: usize) -> Form<I, N> {
@@ -351,10 +314,8 @@ fn load<I: Isa, const N: usize>(s: I, file: &[F64x8], k: usize) -> Form<I, N> {
     }
 }
 
-/// Instruction `i` over every block: its result's blocks from `o` on, operand `k`'s
-/// block `j` at `ops[k].0 + ops[k].1 * j`. Each block's operands are read before its
-/// result is written, and the lanes its operation leaves to the scalar form are redone
-/// from them first.
+/// [`PartOps::instruction`] for forms: the lanes an operation leaves to the scalar form
+/// are redone from the operands' blocks before the result is written.
 #[inline(always)]
 fn instruction<I: Isa, const N: usize>(
     s: I,
@@ -377,8 +338,7 @@ fn instruction<I: Isa, const N: usize>(
                     load::<I, N>(s, file, at(1, j)),
                 );
                 let (r, redo): (Form<I, N>, I::M) = $body;
-                // `N + 2 <= 5` blocks: the kernel runs for one and three symbols.
-                let mut out = [F64x8::default(); 5];
+                let mut out = [F64x8::default(); MAX_PARTS];
                 out[0] = s.store(r.x0);
                 for k in 0..N {
                     out[1 + k] = s.store(r.xs[k]);
@@ -421,7 +381,7 @@ fn scalar<const N: usize>(
     i: &Instr,
     file: &[F64x8],
     at: [usize; 3],
-    out: &mut [F64x8; 5],
+    out: &mut [F64x8; MAX_PARTS],
     redo: u8,
 ) {
     for l in 0..LANES {

@@ -1,0 +1,90 @@
+//! Kernels over values of several `f64` parts (a dual number's value and partials, a
+//! revised affine form's centre, coefficients and error term): the register walk they
+//! share. Each register holds [`PartOps::PARTS`] blocks per block index (slot `s`,
+//! block `c` at `PARTS * (s * chunks + c)`), the inputs' registers are copied in, a
+//! constant's register holds one block index (its value, then zeros: a constant's
+//! partials and coefficients are 0, as its error term), and every other instruction is
+//! the value type's [`PartOps::instruction`].
+
+use super::regfile::Slots;
+use crate::instr::{Instr, Op};
+use arith_core::lanes::{F64x8, Isa, Kernel};
+use core::marker::PhantomData;
+
+/// The most parts a value may have.
+pub(crate) const MAX_PARTS: usize = 5;
+
+/// A value type of several parts in lanes.
+pub(crate) trait PartOps {
+    /// Blocks per register and block index (at most [`MAX_PARTS`]).
+    const PARTS: usize;
+    /// Instruction `i` (not an input or a constant) over every block: its result's
+    /// blocks from `o` on, operand `k`'s block `j` at `ops[k].0 + ops[k].1 * j`. Each
+    /// block's operands are read before its result is written (the result may take the
+    /// slot of an operand read for the last time).
+    fn instruction<I: Isa>(
+        s: I,
+        i: &Instr,
+        file: &mut [F64x8],
+        o: usize,
+        ops: [(usize, usize); 3],
+        ch: usize,
+    );
+}
+
+/// One tape over `chunks` blocks of values of type `P`: `file` holds `P::PARTS` blocks
+/// per slot and block index, `inputs` the blocks of `x`, `y`, `z` likewise.
+pub(crate) struct Parts<'a, P> {
+    pub(crate) ins: &'a [Instr],
+    pub(crate) slots: &'a Slots,
+    pub(crate) file: &'a mut [F64x8],
+    pub(crate) inputs: &'a [F64x8],
+    pub(crate) chunks: usize,
+    pub(crate) kind: PhantomData<P>,
+}
+
+impl<P: PartOps> Kernel for Parts<'_, P> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<I: Isa>(self, s: I) {
+        let Parts {
+            ins,
+            slots,
+            file,
+            inputs,
+            chunks: ch,
+            ..
+        } = self;
+        let parts = P::PARTS;
+        let slot = &slots.slot;
+        for (k, i) in ins.iter().enumerate() {
+            let at = |r: u32| parts * slot[r as usize] as usize * ch;
+            let o = at(k as u32);
+            match i.op {
+                Op::X | Op::Y | Op::Z => {
+                    let q = match i.op {
+                        Op::X => 0,
+                        Op::Y => 1,
+                        _ => 2,
+                    };
+                    let src = parts * q * ch;
+                    file[o..o + parts * ch].copy_from_slice(&inputs[src..src + parts * ch]);
+                }
+                Op::Const => {
+                    file[o] = F64x8::splat(i.c);
+                    file[o + 1..o + parts].fill(F64x8::splat(0.0));
+                }
+                _ => {
+                    let step = |r: u32| parts * usize::from(ins[r as usize].op != Op::Const);
+                    let ops = [
+                        (at(i.a), step(i.a)),
+                        (at(i.b), step(i.b)),
+                        (at(i.e), step(i.e)),
+                    ];
+                    P::instruction(s, i, file, o, ops, ch);
+                }
+            }
+        }
+    }
+}
