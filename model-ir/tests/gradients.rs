@@ -10,35 +10,13 @@ mod common;
 use arith_core::dual::Dual;
 use arith_core::testkit::checks::{cases, run};
 use arith_core::testkit::expr::{expr_strategy, Expr};
-use common::{draws, paths, random_tape};
+use common::{draws, paths, point, random_tape, same_bits};
 use model_ir::{Builder, Instr, Op, Tape, Val};
 use proptest::prelude::*;
 use proptest::test_runner::TestCaseError;
 
-fn same(a: f64, b: f64) -> bool {
-    a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan())
-}
-
 fn same_dual(a: &Dual<f64>, b: &Dual<f64>) -> bool {
-    same(a.v, b.v) && (0..3).all(|k| same(a.g[k], b.g[k]))
-}
-
-fn point() -> impl Strategy<Value = f64> {
-    prop_oneof![
-        8 => -3.0..3.0f64,
-        1 => prop::sample::select(vec![
-            0.0,
-            -0.0,
-            f64::INFINITY,
-            f64::NEG_INFINITY,
-            f64::NAN,
-            1e308,
-            -1e300,
-            5e-324,
-            0.5,
-            1.0,
-        ]),
-    ]
+    same_bits(a.v, b.v) && (0..3).all(|k| same_bits(a.g[k], b.g[k]))
 }
 
 /// `eval_gradient_batch_on` against the scalar dual evaluation at each point.

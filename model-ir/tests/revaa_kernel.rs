@@ -17,17 +17,13 @@ use arith_core::testkit::checks::{cases, check_point, run};
 use arith_core::testkit::expr::expr_strategy;
 use arith_core::{Range, Real};
 use arith_revaa::{RevAa, RevAa1x4};
-use common::{draws, paths, random_tape};
+use common::{draws, paths, point_in, random_tape, same_bits};
 use model_ir::Tape;
 use proptest::prelude::*;
 use proptest::test_runner::TestCaseError;
 
-fn same(a: f64, b: f64) -> bool {
-    a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan())
-}
-
 fn same_form<const N: usize>(a: &RevAa<N>, b: &RevAa<N>) -> bool {
-    same(a.x0, b.x0) && same(a.e, b.e) && (0..N).all(|k| same(a.xs[k], b.xs[k]))
+    same_bits(a.x0, b.x0) && same_bits(a.e, b.e) && (0..N).all(|k| same_bits(a.xs[k], b.xs[k]))
 }
 
 /// Whether the path computes the scalar bits (the AVX2 path's directed sums are wider).
@@ -206,12 +202,7 @@ fn batched_forms_hold_the_exact_values() {
                 let mut out = Vec::new();
                 t.eval_batch_on(path, &x, &y, &z, &mut out);
                 for (l, (o, f)) in out.iter().zip(&fr).enumerate() {
-                    let p: Vec<f64> = (0..3)
-                        .map(|i| {
-                            let (lo, hi) = boxes[l][i];
-                            (lo + f[i] * (hi - lo)).clamp(lo, hi)
-                        })
-                        .collect();
+                    let p = point_in(&boxes[l], f);
                     let (lo, hi) = o.bounds();
                     if let Err(m) = check_point(&e, &p, lo, hi) {
                         return Err(TestCaseError::fail(format!("{path}: {m}")));

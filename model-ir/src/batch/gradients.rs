@@ -22,22 +22,6 @@ use arith_core::Real;
 /// index, the values, then the partials by `x`, `y`, `z`.
 pub(crate) struct Duals;
 
-impl PartOps for Duals {
-    const PARTS: usize = PARTS;
-
-    #[inline(always)]
-    fn instruction<I: Isa>(
-        s: I,
-        i: &Instr,
-        file: &mut [F64x8],
-        o: usize,
-        ops: [(usize, usize); 3],
-        ch: usize,
-    ) {
-        instruction(s, i, file, o, ops, ch)
-    }
-}
-
 /// Blocks per register and block index.
 const PARTS: usize = 4;
 
@@ -262,88 +246,92 @@ fn load<I: Isa>(s: I, file: &[F64x8], k: usize) -> D<I::V> {
     }
 }
 
-/// [`PartOps::instruction`] for dual numbers.
-#[inline(always)]
-fn instruction<I: Isa>(
-    s: I,
-    i: &Instr,
-    file: &mut [F64x8],
-    o: usize,
-    ops: [(usize, usize); 3],
-    ch: usize,
-) {
-    let c = s.splat(i.c);
-    let at = |k: usize, j: usize| ops[k].0 + ops[k].1 * j;
-    macro_rules! op {
-        (|$j:ident| $body:expr) => {
-            for $j in 0..ch {
-                let r: D<I::V> = $body;
-                let w = &mut file[o + PARTS * $j..o + PARTS * ($j + 1)];
-                w[0] = s.store(r.v);
-                w[1] = s.store(r.g[0]);
-                w[2] = s.store(r.g[1]);
-                w[3] = s.store(r.g[2]);
-            }
-        };
-    }
-    macro_rules! un {
-        (|$x:ident| $body:expr) => {
-            op!(|j| {
-                let $x = load(s, file, at(0, j));
-                $body
-            })
-        };
-    }
-    macro_rules! bin {
-        (|$x:ident, $y:ident| $body:expr) => {
-            op!(|j| {
-                let ($x, $y) = (load(s, file, at(0, j)), load(s, file, at(1, j)));
-                $body
-            })
-        };
-    }
-    match i.op {
-        Op::X | Op::Y | Op::Z | Op::Const => unreachable!("not an operation on registers"),
-        Op::Neg => un!(|x| neg(s, x)),
-        Op::Sqr => un!(|x| sqr(s, x)),
-        Op::Powi if i.n == 0 => op!(|j| constant(s, 1.0)),
-        Op::Exp | Op::Ln | Op::Sin | Op::Cos | Op::Powi => un!(|x| scalar_chain(s, i, x)),
-        Op::Sqrt => un!(|x| sqrt(s, x)),
-        Op::Recip => un!(|x| recip(s, x)),
-        // `Dual::abs` is `max(x, -x)`.
-        Op::Abs => un!(|x| max(s, x, neg(s, x))),
-        Op::AddC => un!(|x| add_c(s, x, c)),
-        Op::SubC => un!(|x| D {
-            v: s.sub(x.v, c),
-            g: x.g,
-        }),
-        // `Real::rsub` for duals: `-x + c`.
-        Op::RSubC => un!(|x| add_c(s, neg(s, x), c)),
-        Op::MulC => un!(|x| mul_c(s, x, c)),
-        Op::DivC => un!(|x| D {
-            v: s.div(x.v, c),
-            g: each(|k| s.div(x.g[k], c)),
-        }),
-        // `Real::rdiv` for duals: `recip(x) * c`.
-        Op::RDivC => un!(|x| mul_c(s, recip(s, x), c)),
-        Op::Add => bin!(|x, y| add(s, x, y)),
-        Op::Sub => bin!(|x, y| sub(s, x, y)),
-        Op::Mul => bin!(|x, y| mul(s, x, y)),
-        Op::Div => bin!(|x, y| div(s, x, y)),
-        Op::Hypot => bin!(|x, y| hypot(s, x, y)),
-        Op::Min => bin!(|x, y| min(s, x, y)),
-        Op::Max => bin!(|x, y| max(s, x, y)),
-        Op::Intersect => bin!(|x, y| sub(s, add(s, x, y), hypot(s, x, y))),
-        Op::Union => bin!(|x, y| add(s, add(s, x, y), hypot(s, x, y))),
-        Op::Subtract => bin!(|x, y| sub(s, sub(s, x, y), hypot(s, x, y))),
-        Op::BlendIntersect => bin!(|x, y| sub(s, add(s, x, y), blend_root(s, x, y))),
-        Op::BlendUnion => bin!(|x, y| add(s, add(s, x, y), blend_root(s, x, y))),
-        Op::Gt0 => un!(|x| step(s, x, true)),
-        Op::Ge0 => un!(|x| step(s, x, false)),
-        // The branch the truth value picks, value and partials.
-        Op::Select => op!(|j| {
-            let m = s.lt(s.splat(0.5), s.load(&file[at(0, j)]));
-            pick(s, m, load(s, file, at(1, j)), load(s, file, at(2, j)))
-        }),
+impl PartOps for Duals {
+    const PARTS: usize = PARTS;
+
+    /// [`PartOps::instruction`] for dual numbers.
+    #[inline(always)]
+    fn instruction<I: Isa>(
+        s: I,
+        i: &Instr,
+        file: &mut [F64x8],
+        o: usize,
+        ops: [(usize, usize); 3],
+        ch: usize,
+    ) {
+        let c = s.splat(i.c);
+        let at = |k: usize, j: usize| ops[k].0 + ops[k].1 * j;
+        macro_rules! op {
+            (|$j:ident| $body:expr) => {
+                for $j in 0..ch {
+                    let r: D<I::V> = $body;
+                    let w = &mut file[o + PARTS * $j..o + PARTS * ($j + 1)];
+                    w[0] = s.store(r.v);
+                    w[1] = s.store(r.g[0]);
+                    w[2] = s.store(r.g[1]);
+                    w[3] = s.store(r.g[2]);
+                }
+            };
+        }
+        macro_rules! un {
+            (|$x:ident| $body:expr) => {
+                op!(|j| {
+                    let $x = load(s, file, at(0, j));
+                    $body
+                })
+            };
+        }
+        macro_rules! bin {
+            (|$x:ident, $y:ident| $body:expr) => {
+                op!(|j| {
+                    let ($x, $y) = (load(s, file, at(0, j)), load(s, file, at(1, j)));
+                    $body
+                })
+            };
+        }
+        match i.op {
+            Op::X | Op::Y | Op::Z | Op::Const => unreachable!("not an operation on registers"),
+            Op::Neg => un!(|x| neg(s, x)),
+            Op::Sqr => un!(|x| sqr(s, x)),
+            Op::Powi if i.n == 0 => op!(|j| constant(s, 1.0)),
+            Op::Exp | Op::Ln | Op::Sin | Op::Cos | Op::Powi => un!(|x| scalar_chain(s, i, x)),
+            Op::Sqrt => un!(|x| sqrt(s, x)),
+            Op::Recip => un!(|x| recip(s, x)),
+            // `Dual::abs` is `max(x, -x)`.
+            Op::Abs => un!(|x| max(s, x, neg(s, x))),
+            Op::AddC => un!(|x| add_c(s, x, c)),
+            Op::SubC => un!(|x| D {
+                v: s.sub(x.v, c),
+                g: x.g,
+            }),
+            // `Real::rsub` for duals: `-x + c`.
+            Op::RSubC => un!(|x| add_c(s, neg(s, x), c)),
+            Op::MulC => un!(|x| mul_c(s, x, c)),
+            Op::DivC => un!(|x| D {
+                v: s.div(x.v, c),
+                g: each(|k| s.div(x.g[k], c)),
+            }),
+            // `Real::rdiv` for duals: `recip(x) * c`.
+            Op::RDivC => un!(|x| mul_c(s, recip(s, x), c)),
+            Op::Add => bin!(|x, y| add(s, x, y)),
+            Op::Sub => bin!(|x, y| sub(s, x, y)),
+            Op::Mul => bin!(|x, y| mul(s, x, y)),
+            Op::Div => bin!(|x, y| div(s, x, y)),
+            Op::Hypot => bin!(|x, y| hypot(s, x, y)),
+            Op::Min => bin!(|x, y| min(s, x, y)),
+            Op::Max => bin!(|x, y| max(s, x, y)),
+            Op::Intersect => bin!(|x, y| sub(s, add(s, x, y), hypot(s, x, y))),
+            Op::Union => bin!(|x, y| add(s, add(s, x, y), hypot(s, x, y))),
+            Op::Subtract => bin!(|x, y| sub(s, sub(s, x, y), hypot(s, x, y))),
+            Op::BlendIntersect => bin!(|x, y| sub(s, add(s, x, y), blend_root(s, x, y))),
+            Op::BlendUnion => bin!(|x, y| add(s, add(s, x, y), blend_root(s, x, y))),
+            Op::Gt0 => un!(|x| step(s, x, true)),
+            Op::Ge0 => un!(|x| step(s, x, false)),
+            // The branch the truth value picks, value and partials.
+            Op::Select => op!(|j| {
+                let m = s.lt(s.splat(0.5), s.load(&file[at(0, j)]));
+                pick(s, m, load(s, file, at(1, j)), load(s, file, at(2, j)))
+            }),
+        }
     }
 }

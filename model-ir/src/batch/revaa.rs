@@ -30,22 +30,6 @@ use arith_revaa::RevAa;
 /// index, the centres, the coefficients, the error terms.
 pub(crate) struct Forms<const N: usize>;
 
-impl<const N: usize> PartOps for Forms<N> {
-    const PARTS: usize = N + 2;
-
-    #[inline(always)]
-    fn instruction<I: Isa>(
-        s: I,
-        i: &Instr,
-        file: &mut [F64x8],
-        o: usize,
-        ops: [(usize, usize); 3],
-        ch: usize,
-    ) {
-        instruction::<I, N>(s, i, file, o, ops, ch)
-    }
-}
-
 /// Eight forms in registers.
 #[derive(Clone, Copy)]
 struct F<V, const N: usize> {
@@ -314,61 +298,65 @@ fn load<I: Isa, const N: usize>(s: I, file: &[F64x8], k: usize) -> Form<I, N> {
     }
 }
 
-/// [`PartOps::instruction`] for forms: the lanes an operation leaves to the scalar form
-/// are redone from the operands' blocks before the result is written.
-#[inline(always)]
-fn instruction<I: Isa, const N: usize>(
-    s: I,
-    i: &Instr,
-    file: &mut [F64x8],
-    o: usize,
-    ops: [(usize, usize); 3],
-    ch: usize,
-) {
-    let c = s.splat(i.c);
-    let at = |k: usize, j: usize| ops[k].0 + ops[k].1 * j;
-    let none = s.lt(c, c);
-    let all = s.not(none);
-    macro_rules! op {
-        (|$x:ident, $y:ident| $body:expr) => {
-            for j in 0..ch {
-                #[allow(unused_variables)]
-                let ($x, $y) = (
-                    load::<I, N>(s, file, at(0, j)),
-                    load::<I, N>(s, file, at(1, j)),
-                );
-                let (r, redo): (Form<I, N>, I::M) = $body;
-                let mut out = [F64x8::default(); MAX_PARTS];
-                out[0] = s.store(r.x0);
-                for k in 0..N {
-                    out[1 + k] = s.store(r.xs[k]);
+impl<const N: usize> PartOps for Forms<N> {
+    const PARTS: usize = N + 2;
+
+    /// [`PartOps::instruction`] for forms: the lanes an operation leaves to the scalar form
+    /// are redone from the operands' blocks before the result is written.
+    #[inline(always)]
+    fn instruction<I: Isa>(
+        s: I,
+        i: &Instr,
+        file: &mut [F64x8],
+        o: usize,
+        ops: [(usize, usize); 3],
+        ch: usize,
+    ) {
+        let c = s.splat(i.c);
+        let at = |k: usize, j: usize| ops[k].0 + ops[k].1 * j;
+        let none = s.lt(c, c);
+        let all = s.not(none);
+        macro_rules! op {
+            (|$x:ident, $y:ident| $body:expr) => {
+                for j in 0..ch {
+                    #[allow(unused_variables)]
+                    let ($x, $y) = (
+                        load::<I, N>(s, file, at(0, j)),
+                        load::<I, N>(s, file, at(1, j)),
+                    );
+                    let (r, redo): (Form<I, N>, I::M) = $body;
+                    let mut out = [F64x8::default(); MAX_PARTS];
+                    out[0] = s.store(r.x0);
+                    for k in 0..N {
+                        out[1 + k] = s.store(r.xs[k]);
+                    }
+                    out[N + 1] = s.store(r.e);
+                    let redo = s.bits(redo);
+                    if redo != 0 {
+                        scalar::<N>(i, file, [at(0, j), at(1, j), at(2, j)], &mut out, redo);
+                    }
+                    file[o + (N + 2) * j..o + (N + 2) * (j + 1)].copy_from_slice(&out[..N + 2]);
                 }
-                out[N + 1] = s.store(r.e);
-                let redo = s.bits(redo);
-                if redo != 0 {
-                    scalar::<N>(i, file, [at(0, j), at(1, j), at(2, j)], &mut out, redo);
-                }
-                file[o + (N + 2) * j..o + (N + 2) * (j + 1)].copy_from_slice(&out[..N + 2]);
-            }
-        };
-    }
-    match i.op {
-        Op::X | Op::Y | Op::Z | Op::Const => unreachable!("not an operation on registers"),
-        Op::Neg => op!(|x, y| (neg(s, x), none)),
-        Op::Sqr => op!(|x, y| (sqr(s, x), none)),
-        Op::AddC => op!(|x, y| (add_c(s, x, c, false), none)),
-        Op::SubC => op!(|x, y| (add_c(s, x, c, true), none)),
-        // `Real::rsub`: `-x + c`.
-        Op::RSubC => op!(|x, y| (add_c(s, neg(s, x), c, false), none)),
-        Op::MulC => op!(|x, y| (mul_c(s, x, c, false), none)),
-        Op::DivC if i.c != 0.0 => op!(|x, y| (mul_c(s, x, c, true), none)),
-        Op::Add => op!(|x, y| (add(s, x, y, false), none)),
-        Op::Sub => op!(|x, y| (add(s, x, y, true), none)),
-        Op::Mul => op!(|x, y| (mul(s, x, y), none)),
-        Op::Min => op!(|x, y| min_max(s, x, y, false)),
-        Op::Max => op!(|x, y| min_max(s, x, y, true)),
-        // Lane by lane through the scalar operation.
-        _ => op!(|x, y| (x, all)),
+            };
+        }
+        match i.op {
+            Op::X | Op::Y | Op::Z | Op::Const => unreachable!("not an operation on registers"),
+            Op::Neg => op!(|x, y| (neg(s, x), none)),
+            Op::Sqr => op!(|x, y| (sqr(s, x), none)),
+            Op::AddC => op!(|x, y| (add_c(s, x, c, false), none)),
+            Op::SubC => op!(|x, y| (add_c(s, x, c, true), none)),
+            // `Real::rsub`: `-x + c`.
+            Op::RSubC => op!(|x, y| (add_c(s, neg(s, x), c, false), none)),
+            Op::MulC => op!(|x, y| (mul_c(s, x, c, false), none)),
+            Op::DivC if i.c != 0.0 => op!(|x, y| (mul_c(s, x, c, true), none)),
+            Op::Add => op!(|x, y| (add(s, x, y, false), none)),
+            Op::Sub => op!(|x, y| (add(s, x, y, true), none)),
+            Op::Mul => op!(|x, y| (mul(s, x, y), none)),
+            Op::Min => op!(|x, y| min_max(s, x, y, false)),
+            Op::Max => op!(|x, y| min_max(s, x, y, true)),
+            // Lane by lane through the scalar operation.
+            _ => op!(|x, y| (x, all)),
+        }
     }
 }
 

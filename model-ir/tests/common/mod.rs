@@ -21,6 +21,40 @@ pub fn paths() -> Vec<Path> {
         .collect()
 }
 
+/// Whether two numbers have the same bits, or are both NaN.
+pub fn same_bits(a: f64, b: f64) -> bool {
+    a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan())
+}
+
+/// Points: ordinary, and now and then a special number.
+pub fn point() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        8 => -3.0..3.0f64,
+        1 => prop::sample::select(vec![
+            0.0,
+            -0.0,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+            1e308,
+            -1e300,
+            5e-324,
+            0.5,
+            1.0,
+        ]),
+    ]
+}
+
+/// The point at fractions `f` of the box `b` (kept inside it).
+pub fn point_in(b: &[(f64, f64); 3], f: &[f64; 3]) -> Vec<f64> {
+    (0..3)
+        .map(|i| {
+            let (lo, hi) = b[i];
+            (lo + f[i] * (hi - lo)).clamp(lo, hi)
+        })
+        .collect()
+}
+
 /// Constants an instruction may carry: ordinary, zeros, infinities, NaN.
 pub fn constant() -> impl Strategy<Value = f64> {
     prop_oneof![
