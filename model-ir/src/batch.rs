@@ -38,7 +38,7 @@ use crate::instr::{Instr, Op};
 use crate::tape::Tape;
 use arith_core::branch::Step;
 use arith_core::dual::Dual;
-use arith_core::lanes::{dispatch, F64x8, Path, LANES};
+use arith_core::lanes::{dispatch, Path, LANES};
 use arith_core::pack::{Pack, LANES as PACK};
 use arith_core::simd::f64x4;
 use arith_core::{rfunc, Real};
@@ -158,38 +158,36 @@ impl Tape {
             return;
         }
         let id = TypeId::of::<R>();
+        let src = [x, y, z];
         if id == TypeId::of::<f64>() {
-            self.batch_points(path, [x, y, z], out);
-        } else if id == TypeId::of::<Interval>() {
-            let lane = |v: &[R], l: usize| {
-                let i: &Interval = cast_ref(&v[l]);
-                (i.lo, i.hi)
-            };
-            self.batch_intervals(
+            self.batch_parts::<points::Points>(
                 path,
                 n,
-                |q, l| lane([x, y, z][q], l),
-                |l, o| {
-                    out.push(cast(Interval {
-                        lo: o.0[l],
-                        hi: o.1[l],
-                    }))
+                |q, l, p| p[0] = *cast_ref::<R, f64>(&src[q][l]),
+                |_, p| out.push(cast(p[0])),
+            );
+        } else if id == TypeId::of::<Interval>() {
+            self.batch_parts::<intervals::Intervals>(
+                path,
+                n,
+                |q, l, p| {
+                    let i: &Interval = cast_ref(&src[q][l]);
+                    p.copy_from_slice(&[i.lo, i.hi]);
                 },
+                |_, p| out.push(cast(Interval { lo: p[0], hi: p[1] })),
             );
         } else if id == TypeId::of::<IntervalX4>() {
-            let lane = |v: &[R], l: usize| {
-                let p: &IntervalX4 = cast_ref(&v[l / 4]);
-                (p.lo.to_array()[l % 4], p.hi.to_array()[l % 4])
-            };
-            let mut lanes = ([0.0; 4], [0.0; 4]);
-            self.batch_intervals(
+            let mut lanes = ([0.0; PACK], [0.0; PACK]);
+            self.batch_parts::<intervals::Intervals>(
                 path,
-                4 * n,
-                |q, l| lane([x, y, z][q], l),
-                |l, o| {
-                    lanes.0[l % 4] = o.0[l];
-                    lanes.1[l % 4] = o.1[l];
-                    if l % 4 == 3 {
+                PACK * n,
+                |q, l, p| {
+                    let v: &IntervalX4 = cast_ref(&src[q][l / PACK]);
+                    p.copy_from_slice(&[v.lo.to_array()[l % PACK], v.hi.to_array()[l % PACK]]);
+                },
+                |l, p| {
+                    (lanes.0[l % PACK], lanes.1[l % PACK]) = (p[0], p[1]);
+                    if l % PACK == PACK - 1 {
                         let p = IntervalX4 {
                             lo: f64x4::new(lanes.0),
                             hi: f64x4::new(lanes.1),
@@ -280,73 +278,6 @@ impl Tape {
         self.shared()
             .slots
             .get_or_init(|| Slots::allocate(self.instructions()))
-    }
-
-    /// The point kernel over `f64` lanes.
-    fn batch_points<R: Real>(&self, path: Path, src: [&[R]; 3], out: &mut Vec<R>) {
-        let n = src[0].len();
-        let chunks = n.div_ceil(LANES);
-        let slots = self.slots();
-        regfile::with_file(slots.count * chunks, 3 * chunks, |file, inputs| {
-            for (q, v) in src.iter().enumerate() {
-                for j in 0..chunks {
-                    let block = core::array::from_fn(|l| {
-                        *cast_ref::<R, f64>(&v[(j * LANES + l).min(n - 1)])
-                    });
-                    inputs[q * chunks + j] = F64x8(block);
-                }
-            }
-            let ins = self.instructions();
-            let kernel = points::Points {
-                ins,
-                slots,
-                file,
-                inputs,
-                chunks,
-            };
-            dispatch(path, kernel);
-            let r = slots.slot[ins.len() - 1] as usize * chunks;
-            let step = usize::from(ins[ins.len() - 1].op != Op::Const);
-            out.extend((0..n).map(|l| cast(file[r + step * (l / LANES)].0[l % LANES])));
-        });
-    }
-
-    /// The interval kernel over `n` lanes, lane `l` of input `q` from `lane(q, l)`; each
-    /// result lane `l` handed to `put(l % 8, block)` in order.
-    fn batch_intervals(
-        &self,
-        path: Path,
-        n: usize,
-        lane: impl Fn(usize, usize) -> (f64, f64),
-        mut put: impl FnMut(usize, (&[f64; LANES], &[f64; LANES])),
-    ) {
-        let chunks = n.div_ceil(LANES);
-        let slots = self.slots();
-        regfile::with_file(2 * slots.count * chunks, 6 * chunks, |file, inputs| {
-            for q in 0..3 {
-                for j in 0..chunks {
-                    let v: [(f64, f64); LANES] =
-                        core::array::from_fn(|l| lane(q, (j * LANES + l).min(n - 1)));
-                    inputs[2 * (q * chunks + j)] = F64x8(v.map(|b| b.0));
-                    inputs[2 * (q * chunks + j) + 1] = F64x8(v.map(|b| b.1));
-                }
-            }
-            let ins = self.instructions();
-            let kernel = intervals::Intervals {
-                ins,
-                slots,
-                file,
-                inputs,
-                chunks,
-            };
-            dispatch(path, kernel);
-            let r = 2 * slots.slot[ins.len() - 1] as usize * chunks;
-            let step = usize::from(ins[ins.len() - 1].op != Op::Const);
-            for l in 0..n {
-                let j = step * (l / LANES);
-                put(l % LANES, (&file[r + 2 * j].0, &file[r + 2 * j + 1].0));
-            }
-        });
     }
 
     /// The gradient kernel over `n` lanes, lane `l` of input `q` (its value and

@@ -1,10 +1,10 @@
-//! Kernels over values of several `f64` parts (a dual number's value and partials, a
-//! revised affine form's centre, coefficients and error term): the register walk they
-//! share. Each register holds [`PartOps::PARTS`] blocks per block index (slot `s`,
+//! The register walk every batch kernel shares, over values of one or more `f64` parts
+//! (a point; an interval's bounds; a dual number's value and partials; a revised affine
+//! form's centre, coefficients and error term). Each register holds [`PartOps::PARTS`] blocks per block index (slot `s`,
 //! block `c` at `PARTS * (s * chunks + c)`), the inputs' registers are copied in, a
-//! constant's register holds one block index (its value, then zeros: a constant's
-//! partials and coefficients are 0, as its error term), and every other instruction is
-//! the value type's [`PartOps::instruction`].
+//! constant's register holds one block index ([`PartOps::constant`]: by default its
+//! value, then zeros, as a constant's partials, coefficients and error term are), and
+//! every other instruction is the value type's [`PartOps::instruction`].
 
 use super::regfile::Slots;
 use crate::instr::{Instr, Op};
@@ -18,6 +18,13 @@ pub(crate) const MAX_PARTS: usize = 5;
 pub(crate) trait PartOps {
     /// Blocks per register and block index (at most [`MAX_PARTS`]).
     const PARTS: usize;
+    /// The constant `c` in every lane, into the `PARTS` blocks of `block`: by default
+    /// `c`, then zeros.
+    #[inline(always)]
+    fn constant(c: f64, block: &mut [F64x8]) {
+        block[0] = F64x8::splat(c);
+        block[1..].fill(F64x8::splat(0.0));
+    }
     /// Instruction `i` (not an input or a constant) over every block: its result's
     /// blocks from `o` on, operand `k`'s block `j` at `ops[k].0 + ops[k].1 * j`. Each
     /// block's operands are read before its result is written (the result may take the
@@ -71,10 +78,7 @@ impl<P: PartOps> Kernel for Parts<'_, P> {
                     let src = parts * q * ch;
                     file[o..o + parts * ch].copy_from_slice(&inputs[src..src + parts * ch]);
                 }
-                Op::Const => {
-                    file[o] = F64x8::splat(i.c);
-                    file[o + 1..o + parts].fill(F64x8::splat(0.0));
-                }
+                Op::Const => P::constant(i.c, &mut file[o..o + parts]),
                 _ => {
                     let step = |r: u32| parts * usize::from(ins[r as usize].op != Op::Const);
                     let ops = [
