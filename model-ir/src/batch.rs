@@ -201,19 +201,19 @@ impl Tape {
             // generic loop over four-form packs, which gives the same bits.
             self.batch_generic(x, y, z, out);
         } else if id == TypeId::of::<RevAa<1>>() {
-            self.batch_revaa::<1, R>(path, [x, y, z], out);
+            self.batch_revaa::<1, R>(path, src, out);
         } else if id == TypeId::of::<RevAa<3>>() {
-            self.batch_revaa::<3, R>(path, [x, y, z], out);
+            self.batch_revaa::<3, R>(path, src, out);
         } else if id == TypeId::of::<RevAaX4<1>>() {
-            self.batch_revaa_packs::<1, R>(path, [x, y, z], out);
+            self.batch_revaa_packs::<1, R>(path, src, out);
         } else if id == TypeId::of::<RevAaX4<3>>() {
-            self.batch_revaa_packs::<3, R>(path, [x, y, z], out);
+            self.batch_revaa_packs::<3, R>(path, src, out);
         } else if id == TypeId::of::<Dual<f64>>() {
             self.batch_gradients(
                 path,
                 n,
                 |q, l| {
-                    let d: &Dual<f64> = cast_ref(&[x, y, z][q][l]);
+                    let d: &Dual<f64> = cast_ref(&src[q][l]);
                     (d.v, d.g)
                 },
                 |d| out.push(cast(d)),
