@@ -391,3 +391,65 @@ fn scalar<const N: usize>(
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::Tape;
+    use arith_core::lanes::Path;
+    use arith_core::{Range, Real};
+    use arith_revaa::RevAa;
+
+    /// The kernel on the emulated path (which `eval_batch` leaves to the generic loop,
+    /// and which runs where a thread flushes subnormals) gives the scalar bits too.
+    #[test]
+    fn emulated_kernel_gives_the_scalar_bits() {
+        let t = Tape::record(|x, y, z| {
+            let a = (x.sqr() + y * z - 0.5).max(&(x - y.sqr()));
+            (a.min(&(z * 3.0)) * (x + 1.0)).sqr().rsub(2.0) / 1.5 - y.sqrt()
+        });
+        let forms: Vec<RevAa<1>> = (0..37)
+            .map(|k| {
+                let lo = -1.5 + 0.08 * k as f64;
+                RevAa::<1>::input(k % 2, lo, lo + 0.05 * (1 + k % 5) as f64)
+            })
+            .collect();
+        let mut out = Vec::new();
+        t.revaa_kernel::<1>(
+            Path::Emulated,
+            forms.len(),
+            |_, l| forms[l],
+            |_, f| out.push(f),
+        );
+        assert_eq!(out.len(), forms.len());
+        for (o, f) in out.iter().zip(&forms) {
+            let s = t.eval(*f, *f, *f);
+            let same = |a: f64, b: f64| a.to_bits() == b.to_bits();
+            assert!(
+                same(o.x0, s.x0) && same(o.xs[0], s.xs[0]) && same(o.e, s.e),
+                "{o:?} vs {s:?}"
+            );
+        }
+        // `max` decided (a whole operand) in some lanes, by the formula in others.
+        let m = Tape::record(|x, y, _z| x.max(&y));
+        let y = vec![RevAa::<1>::from_interval(0.0, 0.1); forms.len()];
+        let mut out = Vec::new();
+        m.revaa_kernel::<1>(
+            Path::Emulated,
+            forms.len(),
+            |q, l| [forms[l], y[l], y[l]][q],
+            |_, f| out.push(f),
+        );
+        let (mut whole, mut formula) = (0, 0);
+        for ((o, x), y) in out.iter().zip(&forms).zip(&y) {
+            let s = m.eval(*x, *y, *y);
+            assert!(o.x0.to_bits() == s.x0.to_bits() && o.e.to_bits() == s.e.to_bits());
+            assert!(o.xs[0].to_bits() == s.xs[0].to_bits(), "{o:?} vs {s:?}");
+            if o == x || o == y {
+                whole += 1;
+            } else {
+                formula += 1;
+            }
+        }
+        assert!(whole > 0 && formula > 0, "{whole} decided, {formula} not");
+    }
+}
