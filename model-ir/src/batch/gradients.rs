@@ -12,7 +12,7 @@
 //! `cos` and `powi` take their value and derivative lane by lane from the scalar
 //! functions, then the chain rule in lanes.
 
-use super::parts::PartOps;
+use super::parts::{PartOps, Step};
 use super::points::{real_max, real_min, real_sqrt};
 use crate::instr::{Instr, Op};
 use arith_core::lanes::{F64x8, Isa, LANES};
@@ -251,14 +251,14 @@ impl PartOps for Duals {
 
     /// [`PartOps::instruction`] for dual numbers.
     #[inline(always)]
-    fn instruction<I: Isa>(
-        s: I,
-        i: &Instr,
-        file: &mut [F64x8],
-        o: usize,
-        ops: [(usize, usize); 3],
-        ch: usize,
-    ) {
+    fn instruction<I: Isa>(s: I, at: Step<'_>) {
+        let Step {
+            i,
+            file,
+            o,
+            ops,
+            ch,
+        } = at;
         let c = s.splat(i.c);
         let at = |k: usize, j: usize| ops[k].0 + ops[k].1 * j;
         macro_rules! op {

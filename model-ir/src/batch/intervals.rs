@@ -15,7 +15,7 @@
 //! lanes, and they are redone through the scalar operation. `exp`, `ln`, `sin`, `cos`
 //! and negative powers run lane by lane through the scalar operation too.
 
-use super::parts::PartOps;
+use super::parts::{PartOps, Step};
 use crate::eval::apply;
 use crate::instr::{Instr, Op};
 use arith_core::lanes::{F64x8, Isa, LANES};
@@ -195,14 +195,14 @@ impl PartOps for Intervals {
     }
 
     #[inline(always)]
-    fn instruction<I: Isa>(
-        s: I,
-        i: &Instr,
-        file: &mut [F64x8],
-        o: usize,
-        ops: [(usize, usize); 3],
-        ch: usize,
-    ) {
+    fn instruction<I: Isa>(s: I, at: Step<'_>) {
+        let Step {
+            i,
+            file,
+            o,
+            ops,
+            ch,
+        } = at;
         let [(a, sa), (b, sb), (e, se)] = ops;
         let c = i.c;
         let cv = s.splat(c);

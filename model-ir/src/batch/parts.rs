@@ -25,18 +25,21 @@ pub(crate) trait PartOps {
         block[0] = F64x8::splat(c);
         block[1..].fill(F64x8::splat(0.0));
     }
-    /// Instruction `i` (not an input or a constant) over every block: its result's
-    /// blocks from `o` on, operand `k`'s block `j` at `ops[k].0 + ops[k].1 * j`. Each
+    /// One instruction (not an input or a constant) over every block ([`Step`]). Each
     /// block's operands are read before its result is written (the result may take the
     /// slot of an operand read for the last time).
-    fn instruction<I: Isa>(
-        s: I,
-        i: &Instr,
-        file: &mut [F64x8],
-        o: usize,
-        ops: [(usize, usize); 3],
-        ch: usize,
-    );
+    fn instruction<I: Isa>(s: I, at: Step<'_>);
+}
+
+/// Where one instruction runs: the instruction `i`, its result's blocks from `o` on in
+/// `file`, operand `k`'s block `j` at `ops[k].0 + ops[k].1 * j` (the step is 0 for a
+/// constant's one block), over `ch` block indices.
+pub(crate) struct Step<'a> {
+    pub(crate) i: &'a Instr,
+    pub(crate) file: &'a mut [F64x8],
+    pub(crate) o: usize,
+    pub(crate) ops: [(usize, usize); 3],
+    pub(crate) ch: usize,
 }
 
 /// One tape over `chunks` blocks of values of type `P`: `file` holds `P::PARTS` blocks
@@ -86,7 +89,16 @@ impl<P: PartOps> Kernel for Parts<'_, P> {
                         (at(i.b), step(i.b)),
                         (at(i.e), step(i.e)),
                     ];
-                    P::instruction(s, i, file, o, ops, ch);
+                    P::instruction(
+                        s,
+                        Step {
+                            i,
+                            file: &mut *file,
+                            o,
+                            ops,
+                            ch,
+                        },
+                    );
                 }
             }
         }

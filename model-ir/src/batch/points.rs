@@ -4,9 +4,9 @@
 //! for `f64` fixes); `exp`, `ln`, `sin`, `cos`, `powi` and the R-functions go lane by
 //! lane through the scalar operation.
 
-use super::parts::PartOps;
+use super::parts::{PartOps, Step};
 use crate::eval::apply;
-use crate::instr::{Instr, Op};
+use crate::instr::Op;
 use arith_core::lanes::{F64x8, Isa};
 
 /// The point kernel's values ([`super::parts`]): one block per register and block
@@ -39,14 +39,14 @@ impl PartOps for Points {
     const PARTS: usize = 1;
 
     #[inline(always)]
-    fn instruction<I: Isa>(
-        s: I,
-        i: &Instr,
-        file: &mut [F64x8],
-        o: usize,
-        ops: [(usize, usize); 3],
-        ch: usize,
-    ) {
+    fn instruction<I: Isa>(s: I, at: Step<'_>) {
+        let Step {
+            i,
+            file,
+            o,
+            ops,
+            ch,
+        } = at;
         let [(a, sa), (b, sb), (e, se)] = ops;
         let c = s.splat(i.c);
         macro_rules! un {

@@ -18,7 +18,7 @@
 //! runs this kernel on the hardware paths; on the emulated path the directed sums cost
 //! more than the generic loop over four-form packs, which gives the same bits.
 
-use super::parts::{PartOps, MAX_PARTS};
+use super::parts::{PartOps, Step, MAX_PARTS};
 use crate::eval::apply;
 use crate::instr::{Instr, Op};
 use arith_core::affine_round::{k_lin, k_mul, slack, sqr_margin, TINY};
@@ -304,14 +304,14 @@ impl<const N: usize> PartOps for Forms<N> {
     /// [`PartOps::instruction`] for forms: the lanes an operation leaves to the scalar form
     /// are redone from the operands' blocks before the result is written.
     #[inline(always)]
-    fn instruction<I: Isa>(
-        s: I,
-        i: &Instr,
-        file: &mut [F64x8],
-        o: usize,
-        ops: [(usize, usize); 3],
-        ch: usize,
-    ) {
+    fn instruction<I: Isa>(s: I, at: Step<'_>) {
+        let Step {
+            i,
+            file,
+            o,
+            ops,
+            ch,
+        } = at;
         let c = s.splat(i.c);
         let at = |k: usize, j: usize| ops[k].0 + ops[k].1 * j;
         let none = s.lt(c, c);
