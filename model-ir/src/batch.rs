@@ -38,7 +38,7 @@ use crate::instr::{Instr, Op};
 use crate::tape::Tape;
 use arith_core::branch::Step;
 use arith_core::dual::Dual;
-use arith_core::lanes::{dispatch, Path, LANES};
+use arith_core::lanes::{dispatch, F64x8, Path, LANES};
 use arith_core::pack::{Pack, LANES as PACK};
 use arith_core::simd::f64x4;
 use arith_core::{rfunc, Real};
@@ -354,7 +354,21 @@ impl Tape {
         path: Path,
         n: usize,
         stage: impl Fn(usize, usize, &mut [f64]),
+        put: impl FnMut(usize, &[f64]),
+    ) {
+        self.watched_parts::<P>(path, n, stage, put, (&[], &mut []));
+    }
+
+    /// [`Tape::batch_parts`], the registers `watch` maps to a place `w` (`u32::MAX`:
+    /// not watched) also copied to `seen`, laid out as a slot `w` of the register file
+    /// ([`parts::Parts`]).
+    fn watched_parts<P: parts::PartOps>(
+        &self,
+        path: Path,
+        n: usize,
+        stage: impl Fn(usize, usize, &mut [f64]),
         mut put: impl FnMut(usize, &[f64]),
+        (watch, seen): (&[u32], &mut [F64x8]),
     ) {
         let np = P::PARTS;
         let chunks = n.div_ceil(LANES);
@@ -382,6 +396,8 @@ impl Tape {
                     file,
                     inputs,
                     chunks,
+                    watch,
+                    seen,
                     kind: PhantomData,
                 };
                 dispatch(path, kernel);
@@ -396,6 +412,40 @@ impl Tape {
                 }
             },
         );
+    }
+
+    /// The interval bounds over `n` boxes (box `l`'s side `q` is `lane(q, l)`) of the
+    /// registers that `watch` maps to a place `w < count` (`u32::MAX`: not watched):
+    /// `seen(l, w, (lo, hi))` for every box and watched register, on the lane kernel
+    /// of the current path, each bound what the scalar [`Interval`] gives.
+    pub(crate) fn watched_intervals(
+        &self,
+        watch: &[u32],
+        count: usize,
+        n: usize,
+        lane: impl Fn(usize, usize) -> (f64, f64),
+        mut seen: impl FnMut(usize, usize, (f64, f64)),
+    ) {
+        if n == 0 {
+            return;
+        }
+        let chunks = n.div_ceil(LANES);
+        regfile::with_seen(2 * count * chunks, |seen_file| {
+            let stage = |q: usize, l: usize, p: &mut [f64]| {
+                let (lo, hi) = lane(q, l);
+                p.copy_from_slice(&[lo, hi]);
+            };
+            let path = Path::current();
+            let watched = (watch, &mut *seen_file);
+            self.watched_parts::<intervals::Intervals>(path, n, stage, |_, _| {}, watched);
+            for w in 0..count {
+                for l in 0..n {
+                    let at = 2 * (w * chunks + l / LANES);
+                    let b = (seen_file[at].0[l % LANES], seen_file[at + 1].0[l % LANES]);
+                    seen(l, w, b);
+                }
+            }
+        });
     }
 
     /// The generic loop: one vector of values per register.

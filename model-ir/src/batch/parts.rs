@@ -50,6 +50,11 @@ pub(crate) struct Parts<'a, P> {
     pub(crate) file: &'a mut [F64x8],
     pub(crate) inputs: &'a [F64x8],
     pub(crate) chunks: usize,
+    /// Where `watch[k]` is some `w` (not `u32::MAX`; `watch` empty: none), register
+    /// `k`'s blocks are also copied to `seen`, laid out as a slot `w` of `file`, before
+    /// a later register takes its slot.
+    pub(crate) watch: &'a [u32],
+    pub(crate) seen: &'a mut [F64x8],
     pub(crate) kind: PhantomData<P>,
 }
 
@@ -64,6 +69,8 @@ impl<P: PartOps> Kernel for Parts<'_, P> {
             file,
             inputs,
             chunks: ch,
+            watch,
+            seen,
             ..
         } = self;
         let parts = P::PARTS;
@@ -71,6 +78,8 @@ impl<P: PartOps> Kernel for Parts<'_, P> {
         for (k, i) in ins.iter().enumerate() {
             let at = |r: u32| parts * slot[r as usize] as usize * ch;
             let o = at(k as u32);
+            // A constant's register holds its first block index only.
+            let step = |r: u32| parts * usize::from(ins[r as usize].op != Op::Const);
             match i.op {
                 Op::X | Op::Y | Op::Z => {
                     let q = match i.op {
@@ -83,22 +92,30 @@ impl<P: PartOps> Kernel for Parts<'_, P> {
                 }
                 Op::Const => P::constant(i.c, &mut file[o..o + parts]),
                 _ => {
-                    let step = |r: u32| parts * usize::from(ins[r as usize].op != Op::Const);
                     let ops = [
                         (at(i.a), step(i.a)),
                         (at(i.b), step(i.b)),
                         (at(i.e), step(i.e)),
                     ];
+                    let file = &mut *file;
                     P::instruction(
                         s,
                         Step {
                             i,
-                            file: &mut *file,
+                            file,
                             o,
                             ops,
                             ch,
                         },
                     );
+                }
+            }
+            if let Some(&w) = watch.get(k).filter(|&&w| w != u32::MAX) {
+                let step = step(k as u32);
+                for j in 0..ch {
+                    let at = parts * (w as usize * ch + j);
+                    let from = o + step * j;
+                    seen[at..at + parts].copy_from_slice(&file[from..from + parts]);
                 }
             }
         }
