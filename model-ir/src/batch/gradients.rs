@@ -252,13 +252,7 @@ impl PartOps for Duals {
     /// [`PartOps::instruction`] for dual numbers.
     #[inline(always)]
     fn instruction<I: Isa>(s: I, at: Step<'_>) {
-        let Step {
-            i,
-            file,
-            o,
-            ops,
-            ch,
-        } = at;
+        let (i, o, ops, ch, file) = (at.i, at.o, at.ops, at.ch, at.file);
         let c = s.splat(i.c);
         let at = |k: usize, j: usize| ops[k].0 + ops[k].1 * j;
         macro_rules! op {

@@ -40,13 +40,7 @@ impl PartOps for Points {
 
     #[inline(always)]
     fn instruction<I: Isa>(s: I, at: Step<'_>) {
-        let Step {
-            i,
-            file,
-            o,
-            ops,
-            ch,
-        } = at;
+        let (i, o, ops, ch, file) = (at.i, at.o, at.ops, at.ch, at.file);
         let [(a, sa), (b, sb), (e, se)] = ops;
         let c = s.splat(i.c);
         macro_rules! un {

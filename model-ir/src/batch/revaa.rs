@@ -305,13 +305,7 @@ impl<const N: usize> PartOps for Forms<N> {
     /// are redone from the operands' blocks before the result is written.
     #[inline(always)]
     fn instruction<I: Isa>(s: I, at: Step<'_>) {
-        let Step {
-            i,
-            file,
-            o,
-            ops,
-            ch,
-        } = at;
+        let (i, o, ops, ch, file) = (at.i, at.o, at.ops, at.ch, at.file);
         let c = s.splat(i.c);
         let at = |k: usize, j: usize| ops[k].0 + ops[k].1 * j;
         let none = s.lt(c, c);

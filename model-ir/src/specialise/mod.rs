@@ -33,9 +33,9 @@ use crate::instr::Instr;
 use crate::tape::Tape;
 use arith_core::Range;
 use arith_ia::Interval;
-use std::any::TypeId;
 use rules::{rebuild, Fold, Specialiser, KEEP};
 use rustc_hash::FxHashMap as HashMap;
+use std::any::TypeId;
 
 pub(crate) mod rules;
 pub use rules::MIN_SPECIALISE_LEN;
