@@ -162,7 +162,9 @@ for spec in specs:
     voxel = 2.0 / (size * float(scale))
     ddiff = cmp.get("depth_diff_median")
     warned = any("warning" in read(f"{tmp}/{name}-ours-{r}.err") for r in range(1, rounds + 1))
-    picked = stats[-1].get("arith", arith)
+    st = stats[-1]
+    picked = (f"{st.get('researched', 0)} rays, {st.get('tiles_hull', 0)} tiles in hull"
+              if st.get("arith") == "auto" else st.get("arith", arith))
     rows.append([
         name, scale, f"auto ({picked})" if arith == "auto" else arith,
         f"{med(peer_s):.2f}", f"{med(ours_s):.2f}", f"{med(ours_s) / med(peer_s):.2f}",
@@ -192,7 +194,8 @@ for spec in specs:
         p = json.loads(read(f"{tmp}/{name}-probe.json").splitlines()[0])
         perr = read(f"{tmp}/{name}-probe.err").strip()
         notes.append(
-            f"- {name} with our default arithmetic (auto, it picked {p.get('arith', '?')}) instead, one render at "
+            f"- {name} with our default arithmetic (auto: {p.get('researched', 0)} rays and "
+            f"{p.get('tiles_hull', 0)} tiles in hull) instead, one render at "
             f"{probe_size}x{probe_size}: {p['hits']} hits of {p['width'] * p['height']} pixels "
             f"({p['hits'] / (p['width'] * p['height']):.1%}), {p['unconfirmed']} unconfirmed "
             f"({p['unconfirmed'] / max(p['hits'], 1):.1%}), {p['wall_s']:.1f} s render"
@@ -218,8 +221,9 @@ own effects), built and run by `scripts/peer-fidget.sh` from
 `bench-suite/peers/fidget/models/`; `spheres-2000`, `csg-300` and `lattice` are generated
 by `scripts/gen-vm-scenes.py` (seed 41: a union of 2000 spheres, a CSG tree of 300
 spheres and boxes with differences and intersections, a gyroid sheet and a Schwarz P
-sheet in a box with a ball cut out). *our arith*: `auto (X)` is our default arithmetic,
-which picked X for this model.
+sheet in a box with a ball cut out). *our arith*: `auto (...)` is our default arithmetic,
+RevAA with the rays of unconfirmed hits searched again in Hull (and the tiles rendered in
+Hull throughout where its sample tiles showed walls): how many of each.
 
 - Command: `{command}`
 - Date: {date}, commit {commit}

@@ -2,14 +2,14 @@
 //! evaluation ([`Tape::eval_batch_on`]), by arithmetic and lane path, on fidget's bear
 //! and colonnade tapes, as one JSON object.
 //!
-//! Points and intervals run the lane kernels, once on each path this processor has
-//! (`avx512`, `avx2`, `emulated`); RevAA, RAA* and Hull (four-ray SIMD packs) and
-//! forward-mode gradients (`Dual<f64>`: a value and three partials) run the generic
-//! batch loop, which has no lane path (`generic`). Each figure is the median over
+//! Points, intervals, forward-mode gradients (a value and three partials per point,
+//! [`Tape::eval_gradient_batch_on`]) and RevAA (four-ray packs) run the lane kernels,
+//! once on each path this processor has (`avx512`, `avx2`, `emulated`); RAA* and Hull
+//! (four-ray SIMD packs) run the generic batch loop, which has no lane path
+//! (`generic`). Each figure is the median over
 //! `rounds` rounds; within a round every configuration runs once for `millis`
 //! milliseconds, in turn, so load on the machine hits them alike.
 
-use arith_core::dual::Dual;
 use arith_core::lanes::Path;
 use arith_core::pack::{Pack, LANES};
 use arith_core::{Arithmetic, Range};
@@ -101,16 +101,28 @@ fn packs<A: Arithmetic>(n: usize) -> [Vec<A::RayPack>; 3] {
     })
 }
 
-fn pack_case<'a, A: Arithmetic>(t: &'a Tape, model: usize, lanes: usize) -> Case<'a> {
+/// Packs of arithmetic `A` on `path` (`None`: the generic loop, which has no path).
+fn pack_case<'a, A: Arithmetic>(
+    t: &'a Tape,
+    model: usize,
+    lanes: usize,
+    path: Option<Path>,
+) -> Case<'a> {
     let p = packs::<A>(lanes);
     let mut out = Vec::new();
     Case {
         model,
         lanes,
         arith: A::NAME,
-        path: "generic",
+        path: path.map_or("generic", Path::name),
         run: Box::new(move || {
-            t.eval_batch(&p[0], &p[1], &p[2], &mut out);
+            t.eval_batch_on(
+                path.unwrap_or_else(Path::current),
+                &p[0],
+                &p[1],
+                &p[2],
+                &mut out,
+            );
             black_box(&out);
         }),
         samples: Vec::new(),
@@ -130,6 +142,7 @@ fn cases(t: &Tape, model: usize, lanes: usize) -> Vec<Case<'_>> {
             })
             .collect();
         let [x, y, z] = columns(&pts);
+        let [px, py, pz] = [x.clone(), y.clone(), z.clone()];
         let mut out = Vec::new();
         v.push(Case {
             model,
@@ -137,11 +150,24 @@ fn cases(t: &Tape, model: usize, lanes: usize) -> Vec<Case<'_>> {
             arith: "point",
             path: path.name(),
             run: Box::new(move || {
-                t.eval_batch_on(path, &x, &y, &z, &mut out);
+                t.eval_batch_on(path, &px, &py, &pz, &mut out);
                 black_box(&out);
             }),
             samples: Vec::new(),
         });
+        let mut out = Vec::new();
+        v.push(Case {
+            model,
+            lanes,
+            arith: "gradient",
+            path: path.name(),
+            run: Box::new(move || {
+                t.eval_gradient_batch_on(path, &x, &y, &z, &mut out);
+                black_box(&out);
+            }),
+            samples: Vec::new(),
+        });
+        v.push(pack_case::<RevAaArith>(t, model, lanes, Some(path)));
         let ia: Vec<[Interval; 3]> = segs.iter().map(|&s| ray(s)).collect();
         let [x, y, z] = columns(&ia);
         let mut out = Vec::new();
@@ -157,29 +183,8 @@ fn cases(t: &Tape, model: usize, lanes: usize) -> Vec<Case<'_>> {
             samples: Vec::new(),
         });
     }
-    v.push(pack_case::<RevAaArith>(t, model, lanes));
-    v.push(pack_case::<RaaArith>(t, model, lanes));
-    v.push(pack_case::<HullArith>(t, model, lanes));
-    let duals: Vec<[Dual<f64>; 3]> = segs
-        .iter()
-        .map(|&(o, d, t0, t1)| {
-            let m = 0.5 * (t0 + t1);
-            core::array::from_fn(|i| Dual::var(o[i] + m * d[i], i))
-        })
-        .collect();
-    let [x, y, z] = columns(&duals);
-    let mut out = Vec::new();
-    v.push(Case {
-        model,
-        lanes,
-        arith: "gradient",
-        path: "generic",
-        run: Box::new(move || {
-            t.eval_batch(&x, &y, &z, &mut out);
-            black_box(&out);
-        }),
-        samples: Vec::new(),
-    });
+    v.push(pack_case::<RaaArith>(t, model, lanes, None));
+    v.push(pack_case::<HullArith>(t, model, lanes, None));
     v
 }
 

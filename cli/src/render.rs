@@ -83,11 +83,9 @@ pub struct RenderArgs {
 /// `render --arith`'s help text: `auto` and the arithmetics of the one list.
 fn render_arith_help() -> String {
     format!(
-        "Arithmetic: auto (a probe of {side} pixels across renders in revaa and hull and \
-         keeps revaa unless its ranges draw false walls there; revaa on the GPU), or one \
-         of {}",
+        "Arithmetic: auto (revaa, the rays of hits it cannot confirm searched again in \
+         hull, which removes false walls; revaa on the GPU), or one of {}",
         ArithKind::names(),
-        side = tracer::render::auto_arith::PROBE_SIDE
     )
 }
 
@@ -126,7 +124,7 @@ fn render_gpu(_: ArithKind, _: &Model, _: &RenderOptions) -> Result<RenderResult
 }
 
 /// Runs `tracer render`: the refusals before any work, the render (on the CPU or the
-/// GPU, `--arith auto` probing first), anti-aliasing, the files and the statistics.
+/// GPU), anti-aliasing, the files and the statistics.
 pub fn run_render(a: &RenderArgs) -> Result<(), String> {
     let auto = a.arith == "auto";
     let kind: ArithKind = if auto {
@@ -193,27 +191,14 @@ pub fn run_render(a: &RenderArgs) -> Result<(), String> {
     }
     // Ctrl-C stops starting tiles; the finished ones are written below.
     opts.cancel = Some(tracer_kit::interrupt::cancel_flag());
-    let kind = if auto && !gpu {
-        let c = tracer::render::auto_arith::choose(&model.shape, &opts)?;
-        if !a.quiet {
-            let hull = c
-                .unconfirmed
-                .1
-                .map_or("not probed".into(), |u| u.to_string());
-            eprintln!(
-                "--arith auto: {} (probe {}x{}: {} hits, unconfirmed revaa {}, hull {hull})",
-                c.kind, c.size.0, c.size.1, c.hits, c.unconfirmed.0
-            );
-        }
-        c.kind
-    } else {
-        kind
-    };
     let res = if gpu {
         render_gpu(kind, &model, &opts)?
+    } else if auto {
+        tracer::render::auto_arith::render_auto(&model.shape, &opts)?
     } else {
         render_kind(kind, &model.shape, &opts)?
     };
+    let arith_name = if auto && !gpu { "auto" } else { kind.name() };
     let res = if a.aa > 1 {
         downsample_render(&res, width, height, &Filter::new(kernel, a.aa))
     } else {
@@ -235,17 +220,11 @@ pub fn run_render(a: &RenderArgs) -> Result<(), String> {
         );
     }
     if json {
-        let j = stats_json(&render_fields(
-            &name,
-            width,
-            height,
-            kind.name(),
-            &res.stats,
-        ));
+        let j = stats_json(&render_fields(&name, width, height, arith_name, &res.stats));
         out!("{j}");
     } else {
         out!(
-            "{name} {width}x{height} arith={kind} culling={} pruning={} shadows={}",
+            "{name} {width}x{height} arith={arith_name} culling={} pruning={} shadows={}",
             opts.culling,
             opts.pruning,
             opts.shadows
@@ -279,50 +258,14 @@ pub fn render_fields(
     arith: &str,
     s: &RenderStats,
 ) -> Vec<(&'static str, String)> {
-    // Destructured so that a new counter cannot be left out.
-    let RenderStats {
-        wall,
-        rays,
-        shadow_rays,
-        range_evals,
-        range_evals_hit,
-        cell_evals,
-        shade_evals,
-        range_ops,
-        point_evals,
-        cells_culled,
-        pixels_culled,
-        pruned_empty,
-        hits,
-        unconfirmed,
-        cut,
-        tiles_done,
-        tiles_total,
-    } = *s;
-    let counters = [
-        ("rays", rays),
-        ("shadow_rays", shadow_rays),
-        ("range_evals", range_evals),
-        ("range_evals_hit", range_evals_hit),
-        ("cell_evals", cell_evals),
-        ("shade_evals", shade_evals),
-        ("range_ops", range_ops),
-        ("point_evals", point_evals),
-        ("cells_culled", cells_culled),
-        ("pixels_culled", pixels_culled),
-        ("pruned_empty", pruned_empty),
-        ("hits", hits),
-        ("unconfirmed", unconfirmed),
-        ("tiles_done", tiles_done),
-        ("tiles_total", tiles_total),
-    ];
+    let counters = s.counters();
     let mut fields = vec![
         ("model", json_string(model)),
         ("width", width.to_string()),
         ("height", height.to_string()),
         ("arith", json_string(arith)),
-        ("wall_s", format!("{:?}", wall.as_secs_f64())),
-        ("cut", cut.to_string()),
+        ("wall_s", format!("{:?}", s.wall.as_secs_f64())),
+        ("cut", s.cut.to_string()),
     ];
     fields.extend(counters.map(|(k, v)| (k, v.to_string())));
     fields.push((

@@ -4,34 +4,49 @@
 //! once per instruction and batch, not once per evaluation, and each instruction's loop
 //! over the lanes is a tight loop of one operation.
 //!
-//! Points (`f64`) and intervals ([`Interval`], and its four-lane packs [`IntervalX4`])
-//! run the kernels of this module: eight lanes per instruction of the processor's
+//! Points (`f64`), intervals ([`Interval`], and its four-lane packs [`IntervalX4`])
+//! and forward-mode gradients ([`Dual<f64>`], [`Tape::eval_gradient_batch`]) run the
+//! kernels of this module: eight lanes per instruction of the processor's
 //! fastest path of [`arith_core::lanes`] (AVX-512 with per-instruction rounding, AVX2,
 //! or emulated), over one flat register file per thread ([`regfile`]) that a batch
 //! reuses without allocating. Points are bit for bit what [`Tape::eval`] gives; interval
 //! bounds are the same numbers on the AVX-512 and emulated paths (a zero bound may
-//! differ in sign) and enclose them within an ulp per rounding on the AVX2 path. Every
+//! differ in sign) and enclose them within an ulp per rounding on the AVX2 path;
+//! gradients are bit for bit what [`Tape::eval`] gives over `Dual<f64>`. Revised affine
+//! forms ([`RevAa<N>`] for one and three symbols, and their four-form packs) run a
+//! kernel of their affine operations, product, square, `min` and `max` in lanes, every
+//! other instruction lane by lane through the scalar form: bit for bit the scalar forms
+//! on the AVX-512 path, as sound on the AVX2 path (whose square may take a radius bound
+//! an ulp higher); the emulated path runs them in the generic loop, which is faster
+//! there and gives the same bits. Every
 //! other type runs the generic loop below, whose every lane is, bit for bit, what
 //! [`Tape::eval`] gives on that lane's inputs.
 //!
 //! Lanes may themselves be SIMD packs ([`arith_core::pack::Pack`]: four ray forms in
 //! one value), so a batch of `n` packs evaluates `4 n` ray segments.
 
+mod gradients;
 mod intervals;
+mod parts;
 mod points;
 mod regfile;
+mod revaa;
 
 pub(crate) use regfile::Slots;
 
 use crate::instr::{Instr, Op};
 use crate::tape::Tape;
 use arith_core::branch::Step;
+use arith_core::dual::Dual;
 use arith_core::lanes::{dispatch, F64x8, Path, LANES};
+use arith_core::pack::{Pack, LANES as PACK};
 use arith_core::simd::f64x4;
 use arith_core::{rfunc, Real};
 use arith_ia::{Interval, IntervalX4};
+use arith_revaa::{RevAa, RevAaX4};
 use std::any::{Any, TypeId};
 use std::cell::RefCell;
+use std::marker::PhantomData;
 
 thread_local! {
     /// Spare register vectors per value type and thread, reused across batches.
@@ -143,38 +158,36 @@ impl Tape {
             return;
         }
         let id = TypeId::of::<R>();
+        let src = [x, y, z];
         if id == TypeId::of::<f64>() {
-            self.batch_points(path, [x, y, z], out);
-        } else if id == TypeId::of::<Interval>() {
-            let lane = |v: &[R], l: usize| {
-                let i: &Interval = cast_ref(&v[l]);
-                (i.lo, i.hi)
-            };
-            self.batch_intervals(
+            self.batch_parts::<points::Points>(
                 path,
                 n,
-                |q, l| lane([x, y, z][q], l),
-                |l, o| {
-                    out.push(cast(Interval {
-                        lo: o.0[l],
-                        hi: o.1[l],
-                    }))
+                |q, l, p| p[0] = *cast_ref::<R, f64>(&src[q][l]),
+                |_, p| out.push(cast(p[0])),
+            );
+        } else if id == TypeId::of::<Interval>() {
+            self.batch_parts::<intervals::Intervals>(
+                path,
+                n,
+                |q, l, p| {
+                    let i: &Interval = cast_ref(&src[q][l]);
+                    p.copy_from_slice(&[i.lo, i.hi]);
                 },
+                |_, p| out.push(cast(Interval { lo: p[0], hi: p[1] })),
             );
         } else if id == TypeId::of::<IntervalX4>() {
-            let lane = |v: &[R], l: usize| {
-                let p: &IntervalX4 = cast_ref(&v[l / 4]);
-                (p.lo.to_array()[l % 4], p.hi.to_array()[l % 4])
-            };
-            let mut lanes = ([0.0; 4], [0.0; 4]);
-            self.batch_intervals(
+            let mut lanes = ([0.0; PACK], [0.0; PACK]);
+            self.batch_parts::<intervals::Intervals>(
                 path,
-                4 * n,
-                |q, l| lane([x, y, z][q], l),
-                |l, o| {
-                    lanes.0[l % 4] = o.0[l];
-                    lanes.1[l % 4] = o.1[l];
-                    if l % 4 == 3 {
+                PACK * n,
+                |q, l, p| {
+                    let v: &IntervalX4 = cast_ref(&src[q][l / PACK]);
+                    p.copy_from_slice(&[v.lo.to_array()[l % PACK], v.hi.to_array()[l % PACK]]);
+                },
+                |l, p| {
+                    (lanes.0[l % PACK], lanes.1[l % PACK]) = (p[0], p[1]);
+                    if l % PACK == PACK - 1 {
                         let p = IntervalX4 {
                             lo: f64x4::new(lanes.0),
                             hi: f64x4::new(lanes.1),
@@ -183,9 +196,81 @@ impl Tape {
                     }
                 },
             );
+        } else if is_revaa::<R>() && (path == Path::Emulated || !path.available()) {
+            // Without SIMD lanes the directed sums of `min` and `max` cost more than the
+            // generic loop over four-form packs, which gives the same bits.
+            self.batch_generic(x, y, z, out);
+        } else if id == TypeId::of::<RevAa<1>>() {
+            self.batch_revaa::<1, R>(path, src, out);
+        } else if id == TypeId::of::<RevAa<3>>() {
+            self.batch_revaa::<3, R>(path, src, out);
+        } else if id == TypeId::of::<RevAaX4<1>>() {
+            self.batch_revaa_packs::<1, R>(path, src, out);
+        } else if id == TypeId::of::<RevAaX4<3>>() {
+            self.batch_revaa_packs::<3, R>(path, src, out);
+        } else if id == TypeId::of::<Dual<f64>>() {
+            self.batch_gradients(
+                path,
+                n,
+                |q, l| {
+                    let d: &Dual<f64> = cast_ref(&src[q][l]);
+                    (d.v, d.g)
+                },
+                |d| out.push(cast(d)),
+            );
         } else {
             self.batch_generic(x, y, z, out);
         }
+    }
+
+    /// The value and gradient of the tape at every point `(x[l], y[l], z[l])`, into
+    /// `out` (cleared first), by forward-mode differentiation over eight lanes on this
+    /// process's lane path ([`Path::current`]): `out[l]` is, bit for bit, what
+    /// [`Tape::eval`] gives over [`Dual<f64>`] at that point (each input's partial 1 by
+    /// itself, 0 by the others). One evaluation per point gives a normal's direction.
+    /// The three slices have the same length.
+    ///
+    /// ```
+    /// use arith_core::dual::Dual;
+    /// use arith_core::Real;
+    /// use model_ir::Tape;
+    /// // The unit ball: f = 1 - x^2 - y^2 - z^2, gradient (-2x, -2y, -2z).
+    /// let t = Tape::record(|x, y, z| (x.sqr() + y.sqr() + z.sqr()).rsub(1.0));
+    /// let xs: Vec<f64> = (0..10).map(|k| k as f64 / 10.0).collect();
+    /// let (ys, zs) = (vec![0.5; 10], vec![-0.25; 10]);
+    /// let mut out = Vec::new();
+    /// t.eval_gradient_batch(&xs, &ys, &zs, &mut out);
+    /// for (d, &x) in out.iter().zip(&xs) {
+    ///     assert_eq!(d.g, [-2.0 * x, -1.0, 0.5]);
+    ///     assert_eq!(*d, t.eval(Dual::var(x, 0), Dual::var(0.5, 1), Dual::var(-0.25, 2)));
+    /// }
+    /// ```
+    pub fn eval_gradient_batch(&self, x: &[f64], y: &[f64], z: &[f64], out: &mut Vec<Dual<f64>>) {
+        self.eval_gradient_batch_on(Path::current(), x, y, z, out)
+    }
+
+    /// [`Tape::eval_gradient_batch`] on the lane path `path` (a path this processor
+    /// lacks runs emulated; every path gives the same bits).
+    pub fn eval_gradient_batch_on(
+        &self,
+        path: Path,
+        x: &[f64],
+        y: &[f64],
+        z: &[f64],
+        out: &mut Vec<Dual<f64>>,
+    ) {
+        let n = x.len();
+        assert!(
+            y.len() == n && z.len() == n,
+            "eval_gradient_batch: inputs of unequal lengths"
+        );
+        out.clear();
+        if n == 0 {
+            return;
+        }
+        let seed = |q: usize| core::array::from_fn(|k| if k == q { 1.0 } else { 0.0 });
+        let seeds: [[f64; 3]; 3] = [seed(0), seed(1), seed(2)];
+        self.batch_gradients(path, n, |q, l| ([x, y, z][q][l], seeds[q]), |d| out.push(d));
     }
 
     /// The register slots of the batch kernels.
@@ -195,69 +280,170 @@ impl Tape {
             .get_or_init(|| Slots::allocate(self.instructions()))
     }
 
-    /// The point kernel over `f64` lanes.
-    fn batch_points<R: Real>(&self, path: Path, src: [&[R]; 3], out: &mut Vec<R>) {
-        let n = src[0].len();
-        let chunks = n.div_ceil(LANES);
-        let slots = self.slots();
-        regfile::with_file(slots.count * chunks, 3 * chunks, |file, inputs| {
-            for (q, v) in src.iter().enumerate() {
-                for j in 0..chunks {
-                    let block = core::array::from_fn(|l| {
-                        *cast_ref::<R, f64>(&v[(j * LANES + l).min(n - 1)])
-                    });
-                    inputs[q * chunks + j] = F64x8(block);
-                }
-            }
-            let ins = self.instructions();
-            let kernel = points::Points {
-                ins,
-                slots,
-                file,
-                inputs,
-                chunks,
-            };
-            dispatch(path, kernel);
-            let r = slots.slot[ins.len() - 1] as usize * chunks;
-            let step = usize::from(ins[ins.len() - 1].op != Op::Const);
-            out.extend((0..n).map(|l| cast(file[r + step * (l / LANES)].0[l % LANES])));
-        });
-    }
-
-    /// The interval kernel over `n` lanes, lane `l` of input `q` from `lane(q, l)`; each
-    /// result lane `l` handed to `put(l % 8, block)` in order.
-    fn batch_intervals(
+    /// The gradient kernel over `n` lanes, lane `l` of input `q` (its value and
+    /// partials) from `lane(q, l)`; each result handed to `put` in order.
+    fn batch_gradients(
         &self,
         path: Path,
         n: usize,
-        lane: impl Fn(usize, usize) -> (f64, f64),
-        mut put: impl FnMut(usize, (&[f64; LANES], &[f64; LANES])),
+        lane: impl Fn(usize, usize) -> (f64, [f64; 3]),
+        mut put: impl FnMut(Dual<f64>),
     ) {
+        let stage = |q: usize, l: usize, p: &mut [f64]| {
+            let (v, g) = lane(q, l);
+            p.copy_from_slice(&[v, g[0], g[1], g[2]]);
+        };
+        self.batch_parts::<gradients::Duals>(path, n, stage, |_, p| {
+            put(Dual {
+                v: p[0],
+                g: [p[1], p[2], p[3]],
+            })
+        });
+    }
+
+    /// The RevAA kernel over lanes of type `RevAa<N>` (`R` is that type).
+    fn batch_revaa<const N: usize, R: Real>(&self, path: Path, src: [&[R]; 3], out: &mut Vec<R>) {
+        let lane = |q: usize, l: usize| *cast_ref::<R, RevAa<N>>(&src[q][l]);
+        self.revaa_kernel::<N>(path, src[0].len(), lane, |_, f| out.push(cast(f)));
+    }
+
+    /// The RevAA kernel over four-form packs `RevAaX4<N>` (`R` is that type).
+    fn batch_revaa_packs<const N: usize, R: Real>(
+        &self,
+        path: Path,
+        src: [&[R]; 3],
+        out: &mut Vec<R>,
+    ) {
+        let lane =
+            |q: usize, l: usize| cast_ref::<R, RevAaX4<N>>(&src[q][l / PACK]).unpack()[l % PACK];
+        let mut lanes = [RevAa::<N>::constant(0.0); PACK];
+        self.revaa_kernel::<N>(path, PACK * src[0].len(), lane, |l, f| {
+            lanes[l % PACK] = f;
+            if l % PACK == PACK - 1 {
+                out.push(cast(RevAaX4::<N>::pack(lanes)));
+            }
+        });
+    }
+
+    /// The RevAA kernel over `n` lanes, lane `l` of input `q` from `lane(q, l)`; each
+    /// result lane `l` handed to `put(l, form)` in order.
+    fn revaa_kernel<const N: usize>(
+        &self,
+        path: Path,
+        n: usize,
+        lane: impl Fn(usize, usize) -> RevAa<N>,
+        mut put: impl FnMut(usize, RevAa<N>),
+    ) {
+        let stage = |q: usize, l: usize, p: &mut [f64]| {
+            let f = lane(q, l);
+            p[0] = f.x0;
+            p[1..=N].copy_from_slice(&f.xs);
+            p[N + 1] = f.e;
+        };
+        self.batch_parts::<revaa::Forms<N>>(path, n, stage, |l, p| {
+            let xs = core::array::from_fn(|k| p[1 + k]);
+            put(l, RevAa::<N>::from_parts(p[0], xs, p[N + 1]))
+        });
+    }
+
+    /// A kernel over values of `P::PARTS` parts ([`parts`]) over `n` lanes: lane `l` of
+    /// input `q` written into its parts by `stage(q, l, parts)`, each result lane `l`
+    /// handed to `put(l, parts)` in order.
+    fn batch_parts<P: parts::PartOps>(
+        &self,
+        path: Path,
+        n: usize,
+        stage: impl Fn(usize, usize, &mut [f64]),
+        put: impl FnMut(usize, &[f64]),
+    ) {
+        self.watched_parts::<P>(path, n, stage, put, (&[], &mut []));
+    }
+
+    /// [`Tape::batch_parts`], the registers `watch` maps to a place `w` (`u32::MAX`:
+    /// not watched) also copied to `seen`, laid out as a slot `w` of the register file
+    /// ([`parts::Parts`]).
+    fn watched_parts<P: parts::PartOps>(
+        &self,
+        path: Path,
+        n: usize,
+        stage: impl Fn(usize, usize, &mut [f64]),
+        mut put: impl FnMut(usize, &[f64]),
+        (watch, seen): (&[u32], &mut [F64x8]),
+    ) {
+        let np = P::PARTS;
         let chunks = n.div_ceil(LANES);
         let slots = self.slots();
-        regfile::with_file(2 * slots.count * chunks, 6 * chunks, |file, inputs| {
-            for q in 0..3 {
-                for j in 0..chunks {
-                    let v: [(f64, f64); LANES] =
-                        core::array::from_fn(|l| lane(q, (j * LANES + l).min(n - 1)));
-                    inputs[2 * (q * chunks + j)] = F64x8(v.map(|b| b.0));
-                    inputs[2 * (q * chunks + j) + 1] = F64x8(v.map(|b| b.1));
+        let mut buf = [0.0; parts::MAX_PARTS];
+        regfile::with_file(
+            np * slots.count * chunks,
+            3 * np * chunks,
+            |file, inputs| {
+                for q in 0..3 {
+                    for j in 0..chunks {
+                        let at = np * (q * chunks + j);
+                        for l in 0..LANES {
+                            stage(q, (j * LANES + l).min(n - 1), &mut buf[..np]);
+                            for (k, &v) in buf[..np].iter().enumerate() {
+                                inputs[at + k].0[l] = v;
+                            }
+                        }
+                    }
                 }
-            }
-            let ins = self.instructions();
-            let kernel = intervals::Intervals {
-                ins,
-                slots,
-                file,
-                inputs,
-                chunks,
+                let ins = self.instructions();
+                let kernel = parts::Parts::<P> {
+                    ins,
+                    slots,
+                    file,
+                    inputs,
+                    chunks,
+                    watch,
+                    seen,
+                    kind: PhantomData,
+                };
+                dispatch(path, kernel);
+                let r = np * slots.slot[ins.len() - 1] as usize * chunks;
+                let step = usize::from(ins[ins.len() - 1].op != Op::Const);
+                for l in 0..n {
+                    let b = r + np * step * (l / LANES);
+                    for (k, v) in buf[..np].iter_mut().enumerate() {
+                        *v = file[b + k].0[l % LANES];
+                    }
+                    put(l, &buf[..np]);
+                }
+            },
+        );
+    }
+
+    /// The interval bounds over `n` boxes (box `l`'s side `q` is `lane(q, l)`) of the
+    /// registers that `watch` maps to a place `w < count` (`u32::MAX`: not watched):
+    /// `seen(l, w, (lo, hi))` for every box and watched register, on the lane kernel
+    /// of the current path, each bound what the scalar [`Interval`] gives.
+    pub(crate) fn watched_intervals(
+        &self,
+        watch: &[u32],
+        count: usize,
+        n: usize,
+        lane: impl Fn(usize, usize) -> (f64, f64),
+        mut seen: impl FnMut(usize, usize, (f64, f64)),
+    ) {
+        if n == 0 {
+            return;
+        }
+        let chunks = n.div_ceil(LANES);
+        regfile::with_seen(2 * count * chunks, |seen_file| {
+            let stage = |q: usize, l: usize, p: &mut [f64]| {
+                let (lo, hi) = lane(q, l);
+                p.copy_from_slice(&[lo, hi]);
             };
-            dispatch(path, kernel);
-            let r = 2 * slots.slot[ins.len() - 1] as usize * chunks;
-            let step = usize::from(ins[ins.len() - 1].op != Op::Const);
-            for l in 0..n {
-                let j = step * (l / LANES);
-                put(l % LANES, (&file[r + 2 * j].0, &file[r + 2 * j + 1].0));
+            let path = Path::current();
+            let watched = (watch, &mut *seen_file);
+            self.watched_parts::<intervals::Intervals>(path, n, stage, |_, _| {}, watched);
+            for w in 0..count {
+                for l in 0..n {
+                    let at = 2 * (w * chunks + l / LANES);
+                    let b = (seen_file[at].0[l % LANES], seen_file[at + 1].0[l % LANES]);
+                    seen(l, w, b);
+                }
             }
         });
     }
@@ -285,6 +471,18 @@ impl Tape {
         }
         give_spare(spare);
     }
+}
+
+/// Whether `R` is a revised affine form of the RevAA kernel.
+fn is_revaa<R: 'static>() -> bool {
+    let id = TypeId::of::<R>();
+    [
+        TypeId::of::<RevAa<1>>(),
+        TypeId::of::<RevAa<3>>(),
+        TypeId::of::<RevAaX4<1>>(),
+        TypeId::of::<RevAaX4<3>>(),
+    ]
+    .contains(&id)
 }
 
 /// `v` as the type `R` that it is (checked by the caller's `TypeId` test).

@@ -45,6 +45,9 @@ pub(crate) struct Shared {
     pub(crate) cache: Mutex<HashMap<Vec<u8>, Option<Tape>>>,
     /// The batch kernels' register slots ([`crate::batch`]), built on first use.
     pub(crate) slots: OnceLock<crate::batch::Slots>,
+    /// Specialisation takes bounds in the region's own arithmetic whatever the
+    /// instructions (this tape was specialised from one that did).
+    pub(crate) affine_bounds: bool,
 }
 
 impl Builder {
@@ -61,6 +64,18 @@ impl Tape {
         Tape {
             ins: ins.into(),
             shared: Arc::default(),
+        }
+    }
+
+    /// A tape specialised from one whose specialisation takes bounds in the region's
+    /// own arithmetic (`affine`), which it then does too.
+    pub(crate) fn specialised(ins: Vec<Instr>, affine: bool) -> Tape {
+        Tape {
+            ins: ins.into(),
+            shared: Arc::new(Shared {
+                affine_bounds: affine,
+                ..Default::default()
+            }),
         }
     }
 

@@ -5,32 +5,21 @@
 //! the exact value of the function at random points of its box, also over boxes with
 //! infinite, zero and huge bounds (the lanes redone on the scalar path).
 
+mod common;
+
 use arith_core::lanes::Path;
 use arith_core::pack::Pack;
 use arith_core::testkit::checks::{cases, check_point, run};
 use arith_core::testkit::expr::{expr_strategy, Expr};
 use arith_core::{Range, Real};
 use arith_ia::{Interval, IntervalX4};
+use common::{paths, point, point_in, same_bits};
 use model_ir::Tape;
 use proptest::prelude::*;
 use proptest::test_runner::TestCaseError;
 
 fn recorded(e: &Expr) -> Tape {
     Tape::record(|x, y, z| e.eval(&[x, y, z]))
-}
-
-/// Every available path; the others are named on standard error.
-fn paths() -> Vec<Path> {
-    Path::ALL
-        .into_iter()
-        .filter(|p| {
-            let ok = p.available();
-            if !ok {
-                eprintln!("kernels: skipped the {p} path (this processor lacks it)");
-            }
-            ok
-        })
-        .collect()
 }
 
 type Side = (f64, f64);
@@ -168,12 +157,7 @@ fn batched_ranges_hold_the_exact_values() {
                 let mut out = Vec::new();
                 t.eval_batch_on(path, &x, &y, &z, &mut out);
                 for (l, (o, f)) in out.iter().zip(&fr).enumerate() {
-                    let p: Vec<f64> = (0..3)
-                        .map(|i| {
-                            let (lo, hi) = bs[l][i];
-                            (lo + f[i] * (hi - lo)).clamp(lo, hi)
-                        })
-                        .collect();
+                    let p = point_in(&bs[l], f);
                     if let Err(m) = check_point(&e, &p, o.lo, o.hi) {
                         return Err(TestCaseError::fail(format!("{path}: {m}")));
                     }
@@ -182,22 +166,6 @@ fn batched_ranges_hold_the_exact_values() {
             Ok(())
         },
     );
-}
-
-fn point() -> impl Strategy<Value = f64> {
-    prop_oneof![
-        8 => -3.0..3.0f64,
-        1 => prop::sample::select(vec![
-            0.0,
-            -0.0,
-            f64::INFINITY,
-            f64::NEG_INFINITY,
-            f64::NAN,
-            1e308,
-            5e-324,
-            0.5,
-        ]),
-    ]
 }
 
 /// Points give the scalar evaluation's bits on every path.
@@ -219,7 +187,7 @@ fn point_batches_give_the_scalar_bits() {
                 for (l, o) in out.iter().enumerate() {
                     let s = t.eval(x[l], y[l], z[l]);
                     prop_assert!(
-                        o.to_bits() == s.to_bits() || (o.is_nan() && s.is_nan()),
+                        same_bits(*o, s),
                         "{path}, lane {l}: {o:e} batched, {s:e} scalar\n{e}"
                     );
                 }

@@ -8,8 +8,8 @@ use crate::shape::PyShape;
 use crate::toolkit::camera::{check_size, Camera, MAX_SIDE};
 use crate::toolkit::models::AnyShape;
 use crate::toolkit::render::{
-    choose_arith, downsample_render, render_kind, write_depth, write_png, Choice, Filter, Kernel,
-    Progress, RenderOptions, RenderResult, RenderStats,
+    downsample_render, render_auto, render_kind, write_depth, write_png, Filter, Kernel, Progress,
+    RenderOptions, RenderResult, RenderStats,
 };
 use crate::toolkit::{ArithKind, View};
 use numpy::{PyArray1, PyArray2, PyArray3, PyArrayMethods, PyUntypedArrayMethods};
@@ -43,7 +43,7 @@ type RenderArrays<'py> = (
 ///
 /// The options are ``tracer render``'s: ``size=(W, H)``; ``camera`` (default: the
 /// shape's) and each of ``eye``, ``look_at``, ``up``, ``fov``, ``ortho`` replacing that
-/// part of it; ``arith`` (``"auto"``: a small probe picks ``revaa`` or ``hull``; or
+/// part of it; ``arith`` (``"auto"``: ``revaa``, hits it cannot confirm searched again in ``hull``; or
 /// ``ia``, ``aa``, ``raa``, ``revaa``, ``hull``); ``domain`` (the box rays are clipped
 /// to; default the shape's); ``eps`` (the precision of roots along rays; default a
 /// quarter pixel); ``culling``, ``pruning``, ``specialise``, ``shadows``; ``aa`` (N x N
@@ -140,52 +140,37 @@ pub fn render<'py>(
     let report = Report::from_arg(progress, "render (tiles)")?;
     let pool = pool(threads)?;
     let model = &shape.model.shape;
-    let (res, kind, probe) = run(py, &report, pool.as_ref(), |cancel, counter| {
+    let res = run(py, &report, pool.as_ref(), |cancel, counter| {
         plan.trace(model, cancel, counter)
     })?
     .map_err(|e| value_error("render", e))?;
-    let stats = stats_dict(py, &res.stats, kind)?;
-    if let Some(c) = probe {
-        let hull = c
-            .unconfirmed
-            .1
-            .map_or("not probed".into(), |u| u.to_string());
-        let probe = format!(
-            "{} (probe {}x{}: {} hits, unconfirmed revaa {}, hull {hull})",
-            c.kind, c.size.0, c.size.1, c.hits, c.unconfirmed.0
-        );
-        stats.set_item("auto", probe)?;
-    }
+    let stats = stats_dict(py, &res.stats, plan.kind.map_or("auto", |k| k.name()))?;
     warn_unconfirmed(py, &res.stats)?;
     let (rgb, depth) = arrays(py, res)?;
     Ok((rgb, depth, stats))
 }
 
 impl Plan {
-    /// The render (after the probe of `arith="auto"`), filtered down where anti-aliased:
-    /// the result, the arithmetic used and the probe's choice.
+    /// The render (in the default arithmetic where `kind` is `None`), filtered down
+    /// where anti-aliased.
     fn trace(
         &self,
         model: &AnyShape,
         cancel: &Arc<AtomicBool>,
         counter: &Arc<Counter>,
-    ) -> Result<(RenderResult, ArithKind, Option<Choice>), String> {
+    ) -> Result<RenderResult, String> {
         let mut opts = self.opts.clone();
         opts.cancel = Some(cancel.clone());
         opts.progress = Some(counter.clone() as Arc<dyn Progress>);
-        let (kind, probe) = match self.kind {
-            Some(k) => (k, None),
-            None => {
-                let c = choose_arith(model, &opts)?;
-                (c.kind, Some(c))
-            }
+        let res = match self.kind {
+            Some(k) => render_kind(k, model, &opts)?,
+            None => render_auto(model, &opts)?,
         };
-        let res = render_kind(kind, model, &opts)?;
         let res = match &self.filter {
             Some(f) => downsample_render(&res, self.size.0, self.size.1, f),
             None => res,
         };
-        Ok((res, kind, probe))
+        Ok(res)
     }
 }
 
@@ -267,52 +252,12 @@ fn arrays(
 }
 
 /// Every counter of `s` under its field name, `wall_s`, and the arithmetic used.
-fn stats_dict<'py>(
-    py: Python<'py>,
-    s: &RenderStats,
-    kind: ArithKind,
-) -> PyResult<Bound<'py, PyDict>> {
-    // Destructured so that a new counter cannot be left out.
-    let RenderStats {
-        wall,
-        rays,
-        shadow_rays,
-        range_evals,
-        range_evals_hit,
-        cell_evals,
-        shade_evals,
-        range_ops,
-        point_evals,
-        cells_culled,
-        pixels_culled,
-        pruned_empty,
-        hits,
-        unconfirmed,
-        cut,
-        tiles_done,
-        tiles_total,
-    } = *s;
+fn stats_dict<'py>(py: Python<'py>, s: &RenderStats, arith: &str) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
-    d.set_item("arith", kind.name())?;
-    d.set_item("wall_s", wall.as_secs_f64())?;
-    d.set_item("cut", cut)?;
-    for (k, v) in [
-        ("rays", rays),
-        ("shadow_rays", shadow_rays),
-        ("range_evals", range_evals),
-        ("range_evals_hit", range_evals_hit),
-        ("cell_evals", cell_evals),
-        ("shade_evals", shade_evals),
-        ("range_ops", range_ops),
-        ("point_evals", point_evals),
-        ("cells_culled", cells_culled),
-        ("pixels_culled", pixels_culled),
-        ("pruned_empty", pruned_empty),
-        ("hits", hits),
-        ("unconfirmed", unconfirmed),
-        ("tiles_done", tiles_done),
-        ("tiles_total", tiles_total),
-    ] {
+    d.set_item("arith", arith)?;
+    d.set_item("wall_s", s.wall.as_secs_f64())?;
+    d.set_item("cut", s.cut)?;
+    for (k, v) in s.counters() {
         d.set_item(k, v)?;
     }
     d.set_item("mean_evals_per_hit", s.mean_evals_per_hit())?;

@@ -34,7 +34,7 @@ pub mod camera {
 
 /// The reliable tracer.
 pub mod render {
-    pub use tracer::render::auto_arith::{choose as choose_arith, Choice};
+    pub use tracer::render::auto_arith::render_auto;
     pub use tracer::render::downsample::downsample_render;
     pub use tracer::render::{render_kind, RenderOptions, RenderResult, RenderStats};
     pub use tracer::tracer_kit::bspline_filter::{Filter, Kernel};

@@ -15,22 +15,15 @@
 //! lanes, and they are redone through the scalar operation. `exp`, `ln`, `sin`, `cos`
 //! and negative powers run lane by lane through the scalar operation too.
 
-use super::regfile::Slots;
+use super::parts::{PartOps, Step};
 use crate::eval::apply;
 use crate::instr::{Instr, Op};
-use arith_core::lanes::{F64x8, Isa, Kernel, LANES};
+use arith_core::lanes::{F64x8, Isa, LANES};
 use arith_ia::Interval;
 
-/// One tape over `chunks` blocks of intervals: `file` holds two blocks per slot and
-/// block index (lower bounds at `2 * (s * chunks + c)`, upper bounds after them),
-/// `inputs` the blocks of `x`, `y`, `z` likewise.
-pub(crate) struct Intervals<'a> {
-    pub(crate) ins: &'a [Instr],
-    pub(crate) slots: &'a Slots,
-    pub(crate) file: &'a mut [F64x8],
-    pub(crate) inputs: &'a [F64x8],
-    pub(crate) chunks: usize,
-}
+/// The interval kernel's values ([`super::parts`]): two blocks per register and block
+/// index, the lower bounds, then the upper ones.
+pub(crate) struct Intervals;
 
 /// Lower and upper bounds of eight intervals in registers.
 type P<I> = (<I as Isa>::V, <I as Isa>::V);
@@ -191,125 +184,109 @@ fn select<I: Isa>(s: I, c: P<I>, t: P<I>, e: P<I>) -> P<I> {
     (lo, hi)
 }
 
-impl Kernel for Intervals<'_> {
-    type Output = ();
+impl PartOps for Intervals {
+    const PARTS: usize = 2;
+
+    /// The bounds of `Interval::point(c)`.
+    fn constant(c: f64, block: &mut [F64x8]) {
+        let p = Interval::point(c);
+        block[0] = F64x8::splat(p.lo);
+        block[1] = F64x8::splat(p.hi);
+    }
 
     #[inline(always)]
-    fn run<I: Isa>(self, s: I) {
-        let Intervals {
-            ins,
-            slots,
-            file,
-            inputs,
-            chunks: ch,
-        } = self;
-        let slot = &slots.slot;
-        for (k, i) in ins.iter().enumerate() {
-            let at = |r: u32| 2 * slot[r as usize] as usize * ch;
-            let (o, a, b, e) = (at(k as u32), at(i.a), at(i.b), at(i.e));
-            // A constant's register holds its first block only (the same in every lane).
-            let step = |r: u32| 2 * usize::from(ins[r as usize].op != Op::Const);
-            let (sa, sb, se) = (step(i.a), step(i.b), step(i.e));
-            let c = i.c;
-            let cv = s.splat(c);
-            let finite_nonzero = c.is_finite() && c != 0.0;
-            let zero = s.splat(0.0);
-            // One block of the result from `f` of the operands' blocks, with the lanes
-            // of its mask redone through the scalar operation.
-            macro_rules! op {
-                (|$x:ident, $y:ident, $z:ident| $body:expr) => {
-                    for j in 0..ch {
-                        let at = [a + sa * j, b + sb * j, e + se * j];
-                        let ld = |k: usize| (s.load(&file[k]), s.load(&file[k + 1]));
-                        #[allow(unused_variables)]
-                        let ($x, $y, $z): (P<I>, P<I>, P<I>) = (ld(at[0]), ld(at[1]), ld(at[2]));
-                        let ((lo, hi), bad): (P<I>, I::M) = $body;
-                        let (mut lo, mut hi) = (s.store(lo), s.store(hi));
-                        let bad = s.bits(bad);
-                        if bad != 0 {
-                            redo(i, file, at, (&mut lo, &mut hi), bad);
-                        }
-                        file[o + 2 * j] = lo;
-                        file[o + 2 * j + 1] = hi;
+    fn instruction<I: Isa>(s: I, at: Step<'_>) {
+        let (i, o, ops, ch, file) = (at.i, at.o, at.ops, at.ch, at.file);
+        let [(a, sa), (b, sb), (e, se)] = ops;
+        let c = i.c;
+        let cv = s.splat(c);
+        let finite_nonzero = c.is_finite() && c != 0.0;
+        let zero = s.splat(0.0);
+        // One block of the result from `f` of the operands' blocks, with the lanes
+        // of its mask redone through the scalar operation.
+        macro_rules! op {
+            (|$x:ident, $y:ident, $z:ident| $body:expr) => {
+                for j in 0..ch {
+                    let at = [a + sa * j, b + sb * j, e + se * j];
+                    let ld = |k: usize| (s.load(&file[k]), s.load(&file[k + 1]));
+                    #[allow(unused_variables)]
+                    let ($x, $y, $z): (P<I>, P<I>, P<I>) = (ld(at[0]), ld(at[1]), ld(at[2]));
+                    let ((lo, hi), bad): (P<I>, I::M) = $body;
+                    let (mut lo, mut hi) = (s.store(lo), s.store(hi));
+                    let bad = s.bits(bad);
+                    if bad != 0 {
+                        redo(i, file, at, (&mut lo, &mut hi), bad);
                     }
+                    file[o + 2 * j] = lo;
+                    file[o + 2 * j + 1] = hi;
+                }
+            };
+        }
+        let ok = s.eq(zero, s.splat(1.0));
+        match i.op {
+            Op::X | Op::Y | Op::Z | Op::Const => {
+                unreachable!("not an operation on registers")
+            }
+            Op::Neg => op!(|x, y, z| ((s.neg(x.1), s.neg(x.0)), ok)),
+            Op::Sqr => op!(|x, y, z| (powi_pos(s, x, 2), ok)),
+            Op::Powi if i.n == 1 => op!(|x, y, z| (x, ok)),
+            Op::Powi if i.n >= 2 => op!(|x, y, z| (powi_pos(s, x, i.n as u32), ok)),
+            Op::Sqrt => op!(|x, y, z| sqrt(s, x)),
+            Op::Abs => op!(|x, y, z| (mig_mag(s, x), ok)),
+            Op::Recip => op!(|x, y, z| (rdiv(s, s.splat(1.0), x), ok)),
+            Op::AddC if !c.is_nan() => op!(|x, y, z| add(s, x, (cv, cv))),
+            Op::SubC if !c.is_nan() => {
+                let m = s.splat(-c);
+                op!(|x, y, z| add(s, x, (m, m)))
+            }
+            Op::RSubC if !c.is_nan() => op!(|x, y, z| sub(s, (cv, cv), x)),
+            Op::MulC if finite_nonzero && c > 0.0 => {
+                op!(|x, y, z| ((s.mul_down_raw(x.0, cv), s.mul_up_raw(x.1, cv)), ok))
+            }
+            Op::MulC if finite_nonzero => {
+                op!(|x, y, z| ((s.mul_down_raw(x.1, cv), s.mul_up_raw(x.0, cv)), ok))
+            }
+            Op::DivC if finite_nonzero && c > 0.0 => {
+                op!(|x, y, z| ((s.div_down_raw(x.0, cv), s.div_up_raw(x.1, cv)), ok))
+            }
+            Op::DivC if finite_nonzero => {
+                op!(|x, y, z| ((s.div_down_raw(x.1, cv), s.div_up_raw(x.0, cv)), ok))
+            }
+            Op::RDivC if c.is_finite() => op!(|x, y, z| (rdiv(s, cv, x), ok)),
+            Op::Add => op!(|x, y, z| add(s, x, y)),
+            Op::Sub => op!(|x, y, z| sub(s, x, y)),
+            Op::Mul => op!(|x, y, z| mul(s, x, y)),
+            Op::Div => op!(|x, y, z| div(s, x, y)),
+            Op::Hypot => op!(|x, y, z| hypot(s, x, y)),
+            Op::Min => op!(|x, y, z| ((s.min(x.0, y.0), s.min(x.1, y.1)), ok)),
+            Op::Max => op!(|x, y, z| ((s.max(x.0, y.0), s.max(x.1, y.1)), ok)),
+            Op::Intersect | Op::Union | Op::Subtract => op!(|x, y, z| {
+                let (h, bad) = hypot(s, x, y);
+                let (f, bad2) = match i.op {
+                    Op::Subtract => sub(s, x, y),
+                    _ => add(s, x, y),
                 };
-            }
-            let ok = s.eq(zero, s.splat(1.0));
-            match i.op {
-                Op::X | Op::Y | Op::Z => {
-                    let src = match i.op {
-                        Op::X => 0,
-                        Op::Y => 2 * ch,
-                        _ => 4 * ch,
-                    };
-                    file[o..o + 2 * ch].copy_from_slice(&inputs[src..src + 2 * ch]);
-                }
-                Op::Const => {
-                    let p = Interval::point(c);
-                    file[o] = F64x8::splat(p.lo);
-                    file[o + 1] = F64x8::splat(p.hi);
-                }
-                Op::Neg => op!(|x, y, z| ((s.neg(x.1), s.neg(x.0)), ok)),
-                Op::Sqr => op!(|x, y, z| (powi_pos(s, x, 2), ok)),
-                Op::Powi if i.n == 1 => op!(|x, y, z| (x, ok)),
-                Op::Powi if i.n >= 2 => op!(|x, y, z| (powi_pos(s, x, i.n as u32), ok)),
-                Op::Sqrt => op!(|x, y, z| sqrt(s, x)),
-                Op::Abs => op!(|x, y, z| (mig_mag(s, x), ok)),
-                Op::Recip => op!(|x, y, z| (rdiv(s, s.splat(1.0), x), ok)),
-                Op::AddC if !c.is_nan() => op!(|x, y, z| add(s, x, (cv, cv))),
-                Op::SubC if !c.is_nan() => {
-                    let m = s.splat(-c);
-                    op!(|x, y, z| add(s, x, (m, m)))
-                }
-                Op::RSubC if !c.is_nan() => op!(|x, y, z| sub(s, (cv, cv), x)),
-                Op::MulC if finite_nonzero && c > 0.0 => {
-                    op!(|x, y, z| ((s.mul_down_raw(x.0, cv), s.mul_up_raw(x.1, cv)), ok))
-                }
-                Op::MulC if finite_nonzero => {
-                    op!(|x, y, z| ((s.mul_down_raw(x.1, cv), s.mul_up_raw(x.0, cv)), ok))
-                }
-                Op::DivC if finite_nonzero && c > 0.0 => {
-                    op!(|x, y, z| ((s.div_down_raw(x.0, cv), s.div_up_raw(x.1, cv)), ok))
-                }
-                Op::DivC if finite_nonzero => {
-                    op!(|x, y, z| ((s.div_down_raw(x.1, cv), s.div_up_raw(x.0, cv)), ok))
-                }
-                Op::RDivC if c.is_finite() => op!(|x, y, z| (rdiv(s, cv, x), ok)),
-                Op::Add => op!(|x, y, z| add(s, x, y)),
-                Op::Sub => op!(|x, y, z| sub(s, x, y)),
-                Op::Mul => op!(|x, y, z| mul(s, x, y)),
-                Op::Div => op!(|x, y, z| div(s, x, y)),
-                Op::Hypot => op!(|x, y, z| hypot(s, x, y)),
-                Op::Min => op!(|x, y, z| ((s.min(x.0, y.0), s.min(x.1, y.1)), ok)),
-                Op::Max => op!(|x, y, z| ((s.max(x.0, y.0), s.max(x.1, y.1)), ok)),
-                Op::Intersect | Op::Union | Op::Subtract => op!(|x, y, z| {
-                    let (h, bad) = hypot(s, x, y);
-                    let (f, bad2) = match i.op {
-                        Op::Subtract => sub(s, x, y),
-                        _ => add(s, x, y),
-                    };
-                    let (r, bad3) = match i.op {
-                        Op::Union => add(s, f, h),
-                        _ => sub(s, f, h),
-                    };
-                    (r, s.or(bad, s.or(bad2, bad3)))
-                }),
-                Op::Gt0 => op!(|x, y, z| {
-                    let one = s.splat(1.0);
-                    let lo = s.select(s.lt(zero, x.0), one, zero);
-                    let hi = s.select(s.le(x.1, zero), zero, one);
-                    ((lo, hi), ok)
-                }),
-                Op::Ge0 => op!(|x, y, z| {
-                    let one = s.splat(1.0);
-                    let lo = s.select(s.le(zero, x.0), one, zero);
-                    let hi = s.select(s.lt(x.1, zero), zero, one);
-                    ((lo, hi), ok)
-                }),
-                Op::Select => op!(|x, y, z| (select(s, x, y, z), ok)),
-                // Lane by lane through the scalar operation.
-                _ => op!(|x, y, z| ((x.0, x.1), s.eq(zero, zero))),
-            }
+                let (r, bad3) = match i.op {
+                    Op::Union => add(s, f, h),
+                    _ => sub(s, f, h),
+                };
+                (r, s.or(bad, s.or(bad2, bad3)))
+            }),
+            Op::Gt0 => op!(|x, y, z| {
+                let one = s.splat(1.0);
+                let lo = s.select(s.lt(zero, x.0), one, zero);
+                let hi = s.select(s.le(x.1, zero), zero, one);
+                ((lo, hi), ok)
+            }),
+            Op::Ge0 => op!(|x, y, z| {
+                let one = s.splat(1.0);
+                let lo = s.select(s.le(zero, x.0), one, zero);
+                let hi = s.select(s.lt(x.1, zero), zero, one);
+                ((lo, hi), ok)
+            }),
+            Op::Select => op!(|x, y, z| (select(s, x, y, z), ok)),
+            // Lane by lane through the scalar operation.
+            _ => op!(|x, y, z| ((x.0, x.1), s.eq(zero, zero))),
         }
     }
 }

@@ -4,132 +4,105 @@
 //! for `f64` fixes); `exp`, `ln`, `sin`, `cos`, `powi` and the R-functions go lane by
 //! lane through the scalar operation.
 
-use super::regfile::Slots;
+use super::parts::{PartOps, Step};
 use crate::eval::apply;
-use crate::instr::{Instr, Op};
-use arith_core::lanes::{F64x8, Isa, Kernel};
+use crate::instr::Op;
+use arith_core::lanes::{F64x8, Isa};
 
-/// One tape over `chunks` blocks: `file` holds `slots.count * chunks` blocks (slot
-/// `s`, block `c` at `s * chunks + c`), `inputs` the blocks of `x`, `y`, `z` likewise.
-pub(crate) struct Points<'a> {
-    pub(crate) ins: &'a [Instr],
-    pub(crate) slots: &'a Slots,
-    pub(crate) file: &'a mut [F64x8],
-    pub(crate) inputs: &'a [F64x8],
-    pub(crate) chunks: usize,
-}
+/// The point kernel's values ([`super::parts`]): one block per register and block
+/// index.
+pub(crate) struct Points;
 
 /// `f64`'s [`Real::min`] per lane: equal values give the or of their bits (a set sign
 /// wins), otherwise `f64::min` (a NaN operand gives the other one).
 #[inline(always)]
-fn real_min<I: Isa>(s: I, a: I::V, b: I::V) -> I::V {
+pub(super) fn real_min<I: Isa>(s: I, a: I::V, b: I::V) -> I::V {
     let m = s.select(s.unord(b, b), a, s.min(a, b));
     s.select(s.eq(a, b), s.or_bits(a, b), m)
 }
 
 /// `f64`'s [`Real::max`] per lane (equal values: the and of their bits).
 #[inline(always)]
-fn real_max<I: Isa>(s: I, a: I::V, b: I::V) -> I::V {
+pub(super) fn real_max<I: Isa>(s: I, a: I::V, b: I::V) -> I::V {
     let m = s.select(s.unord(b, b), a, s.max(a, b));
     s.select(s.eq(a, b), s.and_bits(a, b), m)
 }
 
 /// `f64`'s [`Real::sqrt`] per lane: the root of `x` where `x > 0`, else of `+0`.
 #[inline(always)]
-fn real_sqrt<I: Isa>(s: I, a: I::V) -> I::V {
+pub(super) fn real_sqrt<I: Isa>(s: I, a: I::V) -> I::V {
     let zero = s.splat(0.0);
     s.sqrt(s.select(s.lt(zero, a), a, zero))
 }
 
-impl Kernel for Points<'_> {
-    type Output = ();
+impl PartOps for Points {
+    const PARTS: usize = 1;
 
     #[inline(always)]
-    fn run<I: Isa>(self, s: I) {
-        let Points {
-            ins,
-            slots,
-            file,
-            inputs,
-            chunks: ch,
-        } = self;
-        let slot = &slots.slot;
-        for (k, i) in ins.iter().enumerate() {
-            let o = slot[k] as usize * ch;
-            let a = slot[i.a as usize] as usize * ch;
-            let b = slot[i.b as usize] as usize * ch;
-            let e = slot[i.e as usize] as usize * ch;
-            // A constant's register holds its first block only (the same in every lane).
-            let step = |r: u32| usize::from(ins[r as usize].op != Op::Const);
-            let (sa, sb, se) = (step(i.a), step(i.b), step(i.e));
-            let c = s.splat(i.c);
-            macro_rules! un {
-                (|$x:ident| $body:expr) => {
-                    for j in 0..ch {
-                        let $x = s.load(&file[a + sa * j]);
-                        file[o + j] = s.store($body);
-                    }
-                };
+    fn instruction<I: Isa>(s: I, at: Step<'_>) {
+        let (i, o, ops, ch, file) = (at.i, at.o, at.ops, at.ch, at.file);
+        let [(a, sa), (b, sb), (e, se)] = ops;
+        let c = s.splat(i.c);
+        macro_rules! un {
+            (|$x:ident| $body:expr) => {
+                for j in 0..ch {
+                    let $x = s.load(&file[a + sa * j]);
+                    file[o + j] = s.store($body);
+                }
+            };
+        }
+        macro_rules! bin {
+            (|$x:ident, $y:ident| $body:expr) => {
+                for j in 0..ch {
+                    let ($x, $y) = (s.load(&file[a + sa * j]), s.load(&file[b + sb * j]));
+                    file[o + j] = s.store($body);
+                }
+            };
+        }
+        match i.op {
+            Op::X | Op::Y | Op::Z | Op::Const => {
+                unreachable!("not an operation on registers")
             }
-            macro_rules! bin {
-                (|$x:ident, $y:ident| $body:expr) => {
-                    for j in 0..ch {
-                        let ($x, $y) = (s.load(&file[a + sa * j]), s.load(&file[b + sb * j]));
-                        file[o + j] = s.store($body);
-                    }
-                };
+            Op::Neg => un!(|x| s.neg(x)),
+            Op::Sqr => un!(|x| s.mul(x, x)),
+            Op::Sqrt => un!(|x| real_sqrt(s, x)),
+            Op::Abs => un!(|x| s.abs(x)),
+            Op::Recip => un!(|x| s.div(s.splat(1.0), x)),
+            Op::AddC => un!(|x| s.add(x, c)),
+            Op::SubC => un!(|x| s.sub(x, c)),
+            Op::RSubC => un!(|x| s.sub(c, x)),
+            Op::MulC => un!(|x| s.mul(x, c)),
+            Op::DivC => un!(|x| s.div(x, c)),
+            Op::RDivC => un!(|x| s.div(c, x)),
+            Op::Add => bin!(|x, y| s.add(x, y)),
+            Op::Sub => bin!(|x, y| s.sub(x, y)),
+            Op::Mul => bin!(|x, y| s.mul(x, y)),
+            Op::Div => bin!(|x, y| s.div(x, y)),
+            Op::Hypot => bin!(|x, y| real_sqrt(s, s.add(s.mul(x, x), s.mul(y, y)))),
+            Op::Min => bin!(|x, y| real_min(s, x, y)),
+            Op::Max => bin!(|x, y| real_max(s, x, y)),
+            Op::Gt0 => {
+                let (one, zero) = (s.splat(1.0), s.splat(0.0));
+                un!(|x| s.select(s.lt(zero, x), one, zero))
             }
-            match i.op {
-                Op::X | Op::Y | Op::Z => {
-                    let src = match i.op {
-                        Op::X => 0,
-                        Op::Y => ch,
-                        _ => 2 * ch,
-                    };
-                    file[o..o + ch].copy_from_slice(&inputs[src..src + ch]);
+            Op::Ge0 => {
+                let (one, zero) = (s.splat(1.0), s.splat(0.0));
+                un!(|x| s.select(s.le(zero, x), one, zero))
+            }
+            Op::Select => {
+                let half = s.splat(0.5);
+                for j in 0..ch {
+                    let m = s.lt(half, s.load(&file[a + sa * j]));
+                    let (t, f) = (s.load(&file[b + sb * j]), s.load(&file[e + se * j]));
+                    file[o + j] = s.store(s.select(m, t, f));
                 }
-                Op::Const => file[o] = F64x8::splat(i.c),
-                Op::Neg => un!(|x| s.neg(x)),
-                Op::Sqr => un!(|x| s.mul(x, x)),
-                Op::Sqrt => un!(|x| real_sqrt(s, x)),
-                Op::Abs => un!(|x| s.abs(x)),
-                Op::Recip => un!(|x| s.div(s.splat(1.0), x)),
-                Op::AddC => un!(|x| s.add(x, c)),
-                Op::SubC => un!(|x| s.sub(x, c)),
-                Op::RSubC => un!(|x| s.sub(c, x)),
-                Op::MulC => un!(|x| s.mul(x, c)),
-                Op::DivC => un!(|x| s.div(x, c)),
-                Op::RDivC => un!(|x| s.div(c, x)),
-                Op::Add => bin!(|x, y| s.add(x, y)),
-                Op::Sub => bin!(|x, y| s.sub(x, y)),
-                Op::Mul => bin!(|x, y| s.mul(x, y)),
-                Op::Div => bin!(|x, y| s.div(x, y)),
-                Op::Hypot => bin!(|x, y| real_sqrt(s, s.add(s.mul(x, x), s.mul(y, y)))),
-                Op::Min => bin!(|x, y| real_min(s, x, y)),
-                Op::Max => bin!(|x, y| real_max(s, x, y)),
-                Op::Gt0 => {
-                    let (one, zero) = (s.splat(1.0), s.splat(0.0));
-                    un!(|x| s.select(s.lt(zero, x), one, zero))
-                }
-                Op::Ge0 => {
-                    let (one, zero) = (s.splat(1.0), s.splat(0.0));
-                    un!(|x| s.select(s.le(zero, x), one, zero))
-                }
-                Op::Select => {
-                    let half = s.splat(0.5);
-                    for j in 0..ch {
-                        let m = s.lt(half, s.load(&file[a + sa * j]));
-                        let (t, f) = (s.load(&file[b + sb * j]), s.load(&file[e + se * j]));
-                        file[o + j] = s.store(s.select(m, t, f));
-                    }
-                }
-                // Lane by lane through the scalar operation.
-                _ => {
-                    for j in 0..ch {
-                        let (x, y, z) = (file[a + sa * j], file[b + sb * j], file[e + se * j]);
-                        let r = core::array::from_fn(|l| apply(i, x.0[l], y.0[l], z.0[l]));
-                        file[o + j] = F64x8(r);
-                    }
+            }
+            // Lane by lane through the scalar operation.
+            _ => {
+                for j in 0..ch {
+                    let (x, y, z) = (file[a + sa * j], file[b + sb * j], file[e + se * j]);
+                    let r = core::array::from_fn(|l| apply(i, x.0[l], y.0[l], z.0[l]));
+                    file[o + j] = F64x8(r);
                 }
             }
         }

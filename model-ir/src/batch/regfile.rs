@@ -67,6 +67,30 @@ thread_local! {
     static FILE: RefCell<Vec<F64x8>> = const { RefCell::new(Vec::new()) };
     /// This thread's staged inputs, reused likewise.
     static INPUTS: RefCell<Vec<F64x8>> = const { RefCell::new(Vec::new()) };
+    /// This thread's copies of watched registers ([`with_seen`]), reused likewise.
+    static SEEN: RefCell<Vec<F64x8>> = const { RefCell::new(Vec::new()) };
+}
+
+/// Runs `f` with this thread's buffer for watched registers, `len` blocks long
+/// (contents unspecified), or with a fresh one inside a nested call.
+pub(crate) fn with_seen<T>(len: usize, f: impl FnOnce(&mut [F64x8]) -> T) -> T {
+    let mut v = SEEN
+        .try_with(|c| c.try_borrow_mut().map(|mut v| std::mem::take(&mut *v)).ok())
+        .ok()
+        .flatten()
+        .unwrap_or_default();
+    if v.len() < len {
+        v.resize(len, F64x8::default());
+    }
+    let out = f(&mut v[..len]);
+    let _ = SEEN.try_with(|c| {
+        if let Ok(mut c) = c.try_borrow_mut() {
+            if c.len() < v.len() {
+                *c = v;
+            }
+        }
+    });
+    out
 }
 
 /// Runs `f` with this thread's register file and input buffer, `file` and `inputs`

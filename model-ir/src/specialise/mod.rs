@@ -32,8 +32,10 @@
 use crate::instr::Instr;
 use crate::tape::Tape;
 use arith_core::Range;
+use arith_ia::Interval;
 use rules::{rebuild, Fold, Specialiser, KEEP};
 use rustc_hash::FxHashMap as HashMap;
+use std::any::TypeId;
 
 pub(crate) mod rules;
 pub use rules::MIN_SPECIALISE_LEN;
@@ -48,7 +50,7 @@ impl Tape {
     fn specialiser(&self) -> &Specialiser {
         self.shared()
             .rules
-            .get_or_init(|| Specialiser::new(self.instructions()))
+            .get_or_init(|| Specialiser::new(self.instructions(), self.shared().affine_bounds))
     }
 
     /// Whether [`Tape::specialise`] can ever give a shorter tape (long enough, and with
@@ -139,19 +141,31 @@ impl Tape {
             return None;
         }
         let ins = self.instructions();
-        let bounds = spec.watched_bounds(ins, region);
         let fold = if within < f64::INFINITY {
             Fold::Level(within)
         } else {
             Fold::Exact
         };
-        let decisions = spec.decide(ins, &bounds, fold);
+        let mut decisions = Vec::new();
+        if TypeId::of::<R>() == TypeId::of::<Interval>() {
+            // A box: its bounds from the lane kernel, compact.
+            let mut bounds = Vec::new();
+            spec.regions_bounds(self, std::slice::from_ref(region), &mut bounds);
+            let bound = |k: usize| match spec.place[k] {
+                u32::MAX => (f64::NAN, f64::NAN),
+                p => bounds[p as usize],
+            };
+            spec.decide(ins, bound, fold, &mut decisions);
+        } else {
+            let bounds = spec.watched_bounds(ins, region);
+            spec.decide(ins, |k| bounds[k], fold, &mut decisions);
+        }
         if decisions.iter().all(|&d| d == KEEP) {
             return None;
         }
         let folded = (fold != Fold::Exact).then_some(&spec.level_only[..]);
         let t = rebuild(ins, folded, fold, &decisions);
-        (t.len() < ins.len()).then(|| Tape::from_instructions(t))
+        (t.len() < ins.len()).then(|| Tape::specialised(t, spec.affine_bounds()))
     }
 
     /// [`Tape::specialise`] for several unions of regions at once: `groups[g] = (i, j)`
@@ -169,70 +183,118 @@ impl Tape {
             return (Vec::new(), vec![None; groups.len()]);
         }
         let ins = self.instructions();
-        let per_region = spec.regions_bounds(ins, regions);
-        let mut tapes: Vec<Tape> = Vec::new();
-        let mut built: HashMap<Vec<u8>, Option<usize>> = HashMap::default();
-        let which = groups
-            .iter()
-            .map(|&(i, j)| {
-                let rs = per_region.get(i..j).filter(|r| !r.is_empty())?;
-                // The hull over the group's regions; NaN stays (it decides nothing).
-                let bounds: Vec<(f64, f64)> = (0..ins.len())
-                    .map(|k| {
-                        rs.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |b, r| {
-                            let (lo, hi) = r[k];
-                            (
-                                if lo.is_nan() || b.0.is_nan() {
-                                    f64::NAN
-                                } else {
-                                    b.0.min(lo)
-                                },
-                                if hi.is_nan() || b.1.is_nan() {
-                                    f64::NAN
-                                } else {
-                                    b.1.max(hi)
-                                },
-                            )
-                        })
-                    })
-                    .collect();
-                let decisions = spec.decide(ins, &bounds, Fold::Sign);
-                if !spec.r_functions && decisions.iter().all(|&d| d == KEEP) {
-                    return None;
-                }
-                if let Some(&k) = built.get(&decisions) {
-                    return k;
-                }
-                let k = self.rebuilt(spec, ins, &decisions).map(|t| {
-                    tapes.push(t);
-                    tapes.len() - 1
-                });
-                built.insert(decisions, k);
-                k
-            })
-            .collect();
-        (tapes, which)
+        with_scratch(|sc| {
+            spec.regions_bounds(self, regions, &mut sc.bounds);
+            let w = spec.watched;
+            let mut tapes: Vec<Tape> = Vec::new();
+            let mut built: HashMap<Vec<u8>, Option<usize>> = HashMap::default();
+            let which = groups
+                .iter()
+                .map(|&(i, j)| {
+                    let rs = sc.bounds.get(i * w..j * w).filter(|_| i < j)?;
+                    hull(rs, w, &mut sc.hull);
+                    let place = &spec.place;
+                    let hull = &sc.hull;
+                    let bound = |k: usize| match place[k] {
+                        u32::MAX => (f64::NAN, f64::NAN),
+                        p => hull[p as usize],
+                    };
+                    spec.decide(ins, bound, Fold::Sign, &mut sc.decisions);
+                    if !spec.r_functions && sc.decisions.iter().all(|&d| d == KEEP) {
+                        return None;
+                    }
+                    spec.key(&sc.decisions, &mut sc.key);
+                    if let Some(&k) = built.get(&sc.key) {
+                        return k;
+                    }
+                    let k = self.rebuilt(spec, ins, &sc.decisions, &sc.key).map(|t| {
+                        tapes.push(t);
+                        tapes.len() - 1
+                    });
+                    built.insert(sc.key.clone(), k);
+                    k
+                })
+                .collect();
+            (tapes, which)
+        })
     }
 
     /// The tape rebuilt with `decisions` (from the cache where it was built before),
     /// `None` when it is no shorter (or, with R-functions turned into `min` and `max`,
     /// longer than by the negations `a \ b` needs as `min(a, -b)`).
-    fn rebuilt(&self, spec: &Specialiser, ins: &[Instr], decisions: &[u8]) -> Option<Tape> {
+    fn rebuilt(
+        &self,
+        spec: &Specialiser,
+        ins: &[Instr],
+        decisions: &[u8],
+        key: &[u8],
+    ) -> Option<Tape> {
         let shared = self.shared();
         if let Ok(cache) = shared.cache.lock() {
-            if let Some(t) = cache.get(decisions) {
+            if let Some(t) = cache.get(key) {
                 return t.clone();
             }
         }
-        let t = Tape::from_instructions(rebuild(ins, Some(&spec.sign_only), Fold::Sign, decisions));
+        let t = rebuild(ins, Some(&spec.sign_only), Fold::Sign, decisions);
+        let t = Tape::specialised(t, spec.affine_bounds());
         // (`a \ b` as `min(a, -b)` can take one more instruction.)
         let kept = t.len() < ins.len() || spec.r_functions && t.len() <= ins.len() + spec.subtracts;
         let t = kept.then_some(t);
         if let Ok(mut cache) = shared.cache.lock() {
             if cache.len() < CACHE_LIMIT {
-                cache.insert(decisions.to_vec(), t.clone());
+                cache.insert(key.to_vec(), t.clone());
             }
         }
         t
+    }
+}
+
+/// Buffers of [`Tape::specialise_groups`], kept per thread.
+#[derive(Default)]
+struct Scratch {
+    /// Compact bounds per region ([`Specialiser::regions_bounds`]).
+    bounds: Vec<(f64, f64)>,
+    /// Their hull over a group.
+    hull: Vec<(f64, f64)>,
+    decisions: Vec<u8>,
+    key: Vec<u8>,
+}
+
+thread_local! {
+    static SCRATCH: std::cell::RefCell<Scratch> = std::cell::RefCell::default();
+}
+
+/// Runs `f` with this thread's [`Scratch`] (a fresh one inside a nested call).
+fn with_scratch<T>(f: impl FnOnce(&mut Scratch) -> T) -> T {
+    let mut f = Some(f);
+    let pooled = SCRATCH.try_with(|c| {
+        let mut sc = c.try_borrow_mut().ok()?;
+        Some((f.take()?)(&mut sc))
+    });
+    match (pooled, f) {
+        (Ok(Some(out)), _) => out,
+        (_, Some(f)) => f(&mut Scratch::default()),
+        (_, None) => unreachable!("the scratch buffers ran `f` but lost its result"),
+    }
+}
+
+/// The hull over the regions of `rs` (`w` compact bounds each) into `out`; NaN stays
+/// (it decides nothing).
+fn hull(rs: &[(f64, f64)], w: usize, out: &mut Vec<(f64, f64)>) {
+    out.clear();
+    out.extend_from_slice(&rs[..w]);
+    for r in rs.chunks_exact(w).skip(1) {
+        for (b, &(lo, hi)) in out.iter_mut().zip(r) {
+            b.0 = if lo.is_nan() || b.0.is_nan() {
+                f64::NAN
+            } else {
+                b.0.min(lo)
+            };
+            b.1 = if hi.is_nan() || b.1.is_nan() {
+                f64::NAN
+            } else {
+                b.1.max(hi)
+            };
+        }
     }
 }

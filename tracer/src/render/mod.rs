@@ -16,8 +16,8 @@ pub mod value_tree;
 pub use types::{RenderOptions, RenderResult, RenderStats};
 
 use crate::search::cull::{CullStats, Culler};
-use crate::search::ray::{first_roots_until, RayParams};
-use crate::search::tile_rays::tile_rays;
+use crate::search::ray::{first_roots_until, RayJob, RayParams};
+use crate::search::tile_rays::{tile_rays, TileRays};
 use crate::search::windows::Windows;
 use arith_core::Arithmetic;
 use glam::DVec3;
@@ -37,6 +37,61 @@ use types::{TileCtx, TileOut};
 pub fn render<A: Arithmetic, S: Shape>(
     shape: &S,
     opts: &RenderOptions,
+) -> Result<RenderResult, String> {
+    render_tiles(shape, opts, &|t: &Tiles<'_, S>| {
+        t.run(&(0..t.len()).collect::<Vec<_>>(), render_tile::<A, S>)
+    })
+}
+
+/// What renders one tile: the render's shared context, the tile's specialised shapes,
+/// its pixels `[i0, i1) x [j0, j1)` and when to stop.
+pub(crate) type TileFn<S> = fn(
+    &TileCtx<'_, S>,
+    Option<&TileShapes<S>>,
+    (u32, u32, u32, u32),
+    &(dyn Fn() -> bool + Sync),
+) -> TileOut;
+
+/// A render's tiles, ready to run.
+pub(crate) struct Tiles<'a, S> {
+    ctx: TileCtx<'a, S>,
+    rects: &'a [(u32, u32, u32, u32)],
+    per_tile: &'a [TileShapes<S>],
+    stop: &'a (dyn Fn() -> bool + Sync),
+}
+
+impl<S: Shape> Tiles<'_, S> {
+    /// How many tiles the image has.
+    pub(crate) fn len(&self) -> usize {
+        self.rects.len()
+    }
+
+    /// Runs `tile_fn` on the tiles `which` in parallel, in that order (`None`: not
+    /// started, the render being stopped), each counted done on the progress bar.
+    pub(crate) fn run(&self, which: &[usize], tile_fn: TileFn<S>) -> Vec<Option<TileOut>> {
+        which
+            .par_iter()
+            .map(|&k| {
+                if (self.stop)() {
+                    return None;
+                }
+                let out = tile_fn(&self.ctx, self.per_tile.get(k), self.rects[k], self.stop);
+                if let Some(p) = &self.ctx.opts.progress {
+                    p.tile_done();
+                }
+                Some(out)
+            })
+            .collect()
+    }
+}
+
+/// The render's frame around its tiles: the checks, the tiles' specialised shapes, the
+/// tiles run by `schedule` (one output per tile, in order), and the image and counters
+/// put together.
+pub(crate) fn render_tiles<S: Shape>(
+    shape: &S,
+    opts: &RenderOptions,
+    schedule: &dyn Fn(&Tiles<'_, S>) -> Vec<Option<TileOut>>,
 ) -> Result<RenderResult, String> {
     let start = Instant::now();
     let cam = checked_camera(opts)?;
@@ -103,31 +158,36 @@ pub fn render<A: Arithmetic, S: Shape>(
         light: &light,
         scale,
     };
-    let outs: Vec<Option<TileOut>> = tiles
-        .par_iter()
-        .enumerate()
-        .map(|(k, &rect)| {
-            if stop() {
-                return None;
-            }
-            let out = render_tile::<A, S>(&ctx, per_tile.get(k), rect, &stop);
-            if let Some(p) = &opts.progress {
-                p.tile_done();
-            }
-            Some(out)
-        })
-        .collect();
+    let outs = schedule(&Tiles {
+        ctx,
+        rects: &tiles,
+        per_tile: &per_tile,
+        stop: &stop,
+    });
     if let Some(p) = &opts.progress {
         p.finish();
     }
 
+    let cells = tile_evals + value_evals.load(Ordering::Relaxed);
+    Ok(assemble(opts, &tiles, outs, cells, start))
+}
+
+/// The image of `tiles`' outputs (background where a tile was not run), with their
+/// counters summed (`cells` range evaluations made before the tiles ran).
+fn assemble(
+    opts: &RenderOptions,
+    tiles: &[(u32, u32, u32, u32)],
+    outs: Vec<Option<TileOut>>,
+    cells: u64,
+    start: Instant,
+) -> RenderResult {
     let (w, h) = (opts.width as usize, opts.height as usize);
     // Every pixel is written below: by its tile, or as background where a tile was cut.
     let mut rgb = vec![0u8; w * h * 3];
     let mut depth = vec![0.0f32; w * h];
     let mut stats = RenderStats {
         tiles_total: tiles.len() as u64,
-        cell_evals: tile_evals + value_evals.load(std::sync::atomic::Ordering::Relaxed),
+        cell_evals: cells,
         ..Default::default()
     };
     for (&(i0, j0, i1, j1), out) in tiles.iter().zip(outs) {
@@ -158,7 +218,7 @@ pub fn render<A: Arithmetic, S: Shape>(
         stats.tiles_done += u64::from(!out.cut);
     }
     stats.wall = start.elapsed();
-    Ok(RenderResult::of_image(opts, rgb, depth, stats))
+    RenderResult::of_image(opts, rgb, depth, stats)
 }
 
 /// The camera of `opts`, after checking its view, size, precision and domain (the
@@ -183,48 +243,79 @@ pub fn render_kind<S: Shape>(
     model_ir::with_arith!(kind, A => render::<A, S>(shape, opts))
 }
 
-/// Renders the tile `rect` (pixels `[i0, i1) x [j0, j1)`): culling hands out the rays
-/// to search ([`tile_rays`](crate::search::tile_rays)), which are searched in lock-step ([`first_roots_until`],
-/// stopping early, keeping what it found, when `stop` says so; the rays left are
-/// background), and the hits shaded ([`shade_hits`]). `mine` are the tile's
-/// specialised shapes.
+/// Renders the tile `rect` (pixels `[i0, i1) x [j0, j1)`) in the arithmetic `A`:
+/// culling hands out its rays ([`cull_tile`]), which are searched ([`search_rays`]) and
+/// the hits shaded ([`shade_hits`]). `mine` are the tile's specialised shapes.
 fn render_tile<A: Arithmetic, S: Shape>(
     ctx: &TileCtx<'_, S>,
     mine: Option<&TileShapes<S>>,
     rect: (u32, u32, u32, u32),
     stop: &(dyn Fn() -> bool + Sync),
 ) -> TileOut {
-    let shape = mine.and_then(|m| m.search.as_deref()).unwrap_or(ctx.root);
+    let shape = tile_shape(ctx, mine);
+    let (rays, cs, mut out) = cull_tile::<A, S>(ctx, shape, rect);
+    let mut hits = search_rays::<A, S>(ctx, shape, &rays, &rays.jobs, stop, &mut out);
+    shade_hits::<A, S>(ctx, shape, mine, &rays, &mut hits, &mut out);
+    end_tile(&rays, cs, &mut out);
+    out
+}
+
+/// The shape a tile searches: its specialised search shape, else the whole one.
+pub(crate) fn tile_shape<'s, S: Shape>(
+    ctx: &TileCtx<'s, S>,
+    mine: Option<&'s TileShapes<S>>,
+) -> &'s S {
+    mine.and_then(|m| m.search.as_deref()).unwrap_or(ctx.root)
+}
+
+/// The rays culling (in `A`) leaves to search in the tile `rect`
+/// ([`tile_rays`](crate::search::tile_rays)), its counters, and the tile's output, all
+/// background so far.
+pub(crate) fn cull_tile<A: Arithmetic, S: Shape>(
+    ctx: &TileCtx<'_, S>,
+    shape: &S,
+    rect: (u32, u32, u32, u32),
+) -> (TileRays<S>, CullStats, TileOut) {
     let (i0, j0, i1, j1) = rect;
     let mut out = TileOut::background(ctx.opts, ((i1 - i0) * (j1 - j0)) as usize);
     let mut cs = CullStats::default();
     let culler = ctx.opts.culling.then_some(ctx.culler);
     let rays = tile_rays::<A, S>(culler, ctx.cam, &ctx.opts.domain, shape, rect, &mut cs);
-    let st = &mut out.stats;
-    st.rays += rays.traced;
+    out.stats.rays += rays.traced;
+    (rays, cs, out)
+}
+
+/// The first roots of `jobs` (some of `rays`' jobs) in the arithmetic `A`, searched in
+/// lock-step ([`first_roots_until`]), as `(job, distance)`; counted in `out`, which is
+/// marked cut when `stop` ended the search early (the rays left are background).
+pub(crate) fn search_rays<A: Arithmetic, S: Shape>(
+    ctx: &TileCtx<'_, S>,
+    shape: &S,
+    rays: &TileRays<S>,
+    jobs: &[RayJob],
+    stop: &(dyn Fn() -> bool + Sync),
+    out: &mut TileOut,
+) -> Vec<(usize, f64)> {
     let windows: Vec<&Windows<S>> = rays.locals.iter().map(|l| &**l).collect();
     let mut hits: Vec<(usize, f64)> = Vec::new();
-    let all = first_roots_until::<A, S>(
-        shape,
-        &windows,
-        ctx.params,
-        &rays.jobs,
-        stop,
-        |ray, hit, rs| {
-            st.range_evals += rs.range_evals;
-            st.range_ops += rs.range_ops;
-            st.pruned_empty += rs.pruned_empty;
-            st.point_evals += rs.point_evals;
-            if let Some(t) = hit {
-                st.hits += 1;
-                st.range_evals_hit += rs.range_evals;
-                hits.push((ray, t));
-            }
-        },
-    );
-    out.cut = !all;
-    shade_hits::<A, S>(ctx, shape, mine, &rays, &mut hits, &mut out);
-    // The fine depth windows the rays built.
+    let st = &mut out.stats;
+    let all = first_roots_until::<A, S>(shape, &windows, ctx.params, jobs, stop, |ray, hit, rs| {
+        st.range_evals += rs.range_evals;
+        st.range_ops += rs.range_ops;
+        st.pruned_empty += rs.pruned_empty;
+        st.point_evals += rs.point_evals;
+        if let Some(t) = hit {
+            st.hits += 1;
+            st.range_evals_hit += rs.range_evals;
+            hits.push((ray, t));
+        }
+    });
+    out.cut |= !all;
+    hits
+}
+
+/// Adds the culling counters and the fine depth windows the rays built to `out`.
+pub(crate) fn end_tile<S: Shape>(rays: &TileRays<S>, mut cs: CullStats, out: &mut TileOut) {
     for l in &rays.locals {
         let (evals, ops) = l.take_counts();
         cs.cells_specialised += evals;
@@ -235,5 +326,4 @@ fn render_tile<A: Arithmetic, S: Shape>(
     st.range_ops += cs.cell_ops;
     st.cells_culled = cs.cells_culled;
     st.pixels_culled = cs.pixels_culled;
-    out
 }

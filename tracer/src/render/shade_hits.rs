@@ -283,6 +283,7 @@ impl<'a, S: Shape> Shader<'a, S> {
         let (n, confirmed) = shade::normal_of_samples(s);
         if !confirmed {
             out.stats.unconfirmed += 1;
+            out.unconfirmed_rays.push(ray);
         }
         let in_shadow = ctx.opts.shadows && shadowed::<A, S>(ctx, p, n, step, &mut out.stats);
         let c = shade::shade(n, d, ctx.light, &ctx.opts.material, in_shadow);

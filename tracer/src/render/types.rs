@@ -130,6 +130,12 @@ pub struct RenderStats {
     /// features thinner than the precision, or a function whose ranges hold 0
     /// everywhere (infinite or NaN values).
     pub unconfirmed: u64,
+    /// Rays whose unconfirmed hit was searched again in Hull (the default arithmetic,
+    /// [`crate::render::auto_arith`]; 0 in every other).
+    pub researched: u64,
+    /// Tiles rendered in Hull throughout: the default arithmetic's sample tiles showed
+    /// walls ([`crate::render::auto_arith`]; 0 in every other arithmetic).
+    pub tiles_hull: u64,
     /// Whether the render stopped early (deadline or cancel): the pixels it did not finish are background.
     pub cut: bool,
     /// Tiles rendered.
@@ -139,6 +145,52 @@ pub struct RenderStats {
 }
 
 impl RenderStats {
+    /// Every counter under its field name (in `--stats json` and Python's stats), in
+    /// this order; the wall time and `cut` are not counters.
+    pub fn counters(&self) -> [(&'static str, u64); 17] {
+        // Destructured so that a new counter cannot be left out.
+        let RenderStats {
+            wall: _,
+            rays,
+            shadow_rays,
+            range_evals,
+            range_evals_hit,
+            cell_evals,
+            shade_evals,
+            range_ops,
+            point_evals,
+            cells_culled,
+            pixels_culled,
+            pruned_empty,
+            hits,
+            unconfirmed,
+            researched,
+            tiles_hull,
+            cut: _,
+            tiles_done,
+            tiles_total,
+        } = *self;
+        [
+            ("rays", rays),
+            ("shadow_rays", shadow_rays),
+            ("range_evals", range_evals),
+            ("range_evals_hit", range_evals_hit),
+            ("cell_evals", cell_evals),
+            ("shade_evals", shade_evals),
+            ("range_ops", range_ops),
+            ("point_evals", point_evals),
+            ("cells_culled", cells_culled),
+            ("pixels_culled", pixels_culled),
+            ("pruned_empty", pruned_empty),
+            ("hits", hits),
+            ("unconfirmed", unconfirmed),
+            ("researched", researched),
+            ("tiles_hull", tiles_hull),
+            ("tiles_done", tiles_done),
+            ("tiles_total", tiles_total),
+        ]
+    }
+
     /// Mean tape length of a range evaluation (rays and cells; 0 for shapes that are not
     /// tapes).
     pub fn mean_tape_len(&self) -> f64 {
@@ -179,6 +231,8 @@ impl std::ops::AddAssign for RenderStats {
         self.pruned_empty += o.pruned_empty;
         self.hits += o.hits;
         self.unconfirmed += o.unconfirmed;
+        self.researched += o.researched;
+        self.tiles_hull += o.tiles_hull;
         self.cut |= o.cut;
         self.tiles_done += o.tiles_done;
         self.tiles_total += o.tiles_total;
@@ -211,6 +265,13 @@ impl std::fmt::Display for RenderStats {
         )?;
         writeln!(f, "hit pixels:           {}", self.hits)?;
         writeln!(f, "unconfirmed hits:     {}", self.unconfirmed)?;
+        if self.researched > 0 || self.tiles_hull > 0 {
+            writeln!(
+                f,
+                "searched in hull:     {} rays, {} tiles",
+                self.researched, self.tiles_hull
+            )?;
+        }
         write!(f, "range evals per hit:  {:.2}", self.mean_evals_per_hit())?;
         if self.range_ops > 0 {
             write!(f, "\nmean tape length:     {:.1}", self.mean_tape_len())?;
@@ -262,6 +323,10 @@ pub(crate) struct TileOut {
     pub(crate) stats: RenderStats,
     /// Stopped before its last rays: those pixels are background.
     pub(crate) cut: bool,
+    /// The rays (job indices) whose hits shading found unconfirmed.
+    pub(crate) unconfirmed_rays: Vec<usize>,
+    /// Of them, those a second search in Hull confirmed or removed.
+    pub(crate) resolved: u64,
 }
 
 impl TileOut {
@@ -272,6 +337,8 @@ impl TileOut {
             depth: vec![f32::INFINITY; n],
             stats: RenderStats::default(),
             cut: false,
+            unconfirmed_rays: Vec::new(),
+            resolved: 0,
         }
     }
 }

@@ -334,3 +334,18 @@ fn straight_ortho_views_give_the_analytic_disc_and_square() {
         }
     }
 }
+
+/// The lane path these renders ran on: the one `ARITH_LANES` names where this processor
+/// has it, else the fastest it has. CI runs this module once per path the processor
+/// has; this is what makes each run test the path it names.
+#[test]
+fn renders_run_on_the_lane_path_asked_for() {
+    use model_ir::arith_core::lanes::Path;
+    let asked = std::env::var("ARITH_LANES").ok();
+    let want = match asked.as_deref().and_then(Path::from_name) {
+        Some(p) if p.available() => p,
+        _ => Path::best(),
+    };
+    assert_eq!(Path::current(), want, "ARITH_LANES={asked:?}");
+    eprintln!("ground truth on the {} lane path", Path::current());
+}
