@@ -732,7 +732,7 @@ fn stats_as_json() {
     for key in [
         "\"width\": 16",
         "\"height\": 12",
-        "\"arith\": \"revaa\"",
+        "\"arith\": \"auto\"",
         "\"wall_s\": ",
         "\"rays\": ",
         "\"shadow_rays\": ",
@@ -745,6 +745,8 @@ fn stats_as_json() {
         "\"pruned_empty\": ",
         "\"hits\": ",
         "\"unconfirmed\": ",
+        "\"researched\": ",
+        "\"tiles_hull\": ",
         "\"cut\": false",
         "\"tiles_done\": ",
         "\"tiles_total\": ",
