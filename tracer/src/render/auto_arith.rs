@@ -37,7 +37,7 @@ use super::shade_hits::shade_hits;
 use super::tile_shapes::TileShapes;
 use super::types::{TileCtx, TileOut};
 use super::{
-    cull_tile, end_tile, render_tile, render_tiles, search_rays, tile_shape, RenderOptions,
+    end_tile, render_tile, render_tiles, search_rays, tile_shape, trace_tile, RenderOptions,
     RenderResult, Tiles,
 };
 use crate::search::ray::RayJob;
@@ -104,10 +104,8 @@ fn auto_tile<S: Shape>(
     rect: (u32, u32, u32, u32),
     stop: &(dyn Fn() -> bool + Sync),
 ) -> TileOut {
+    let (rays, cs, mut out) = trace_tile::<RevAa, S>(ctx, mine, rect, stop);
     let shape = tile_shape(ctx, mine);
-    let (rays, cs, mut out) = cull_tile::<RevAa, S>(ctx, shape, rect);
-    let mut hits = search_rays::<RevAa, S>(ctx, shape, &rays, &rays.jobs, stop, &mut out);
-    shade_hits::<RevAa, S>(ctx, shape, mine, &rays, &mut hits, &mut out);
     let again = std::mem::take(&mut out.unconfirmed_rays);
     if !again.is_empty() && !out.cut {
         for &ray in &again {

@@ -252,12 +252,24 @@ fn render_tile<A: Arithmetic, S: Shape>(
     rect: (u32, u32, u32, u32),
     stop: &(dyn Fn() -> bool + Sync),
 ) -> TileOut {
+    let (rays, cs, mut out) = trace_tile::<A, S>(ctx, mine, rect, stop);
+    end_tile(&rays, cs, &mut out);
+    out
+}
+
+/// The tile `rect` culled, searched and shaded in `A`: its rays, the culling counters
+/// and its output (see [`render_tile`], which then adds the counters).
+pub(crate) fn trace_tile<A: Arithmetic, S: Shape>(
+    ctx: &TileCtx<'_, S>,
+    mine: Option<&TileShapes<S>>,
+    rect: (u32, u32, u32, u32),
+    stop: &(dyn Fn() -> bool + Sync),
+) -> (TileRays<S>, CullStats, TileOut) {
     let shape = tile_shape(ctx, mine);
     let (rays, cs, mut out) = cull_tile::<A, S>(ctx, shape, rect);
     let mut hits = search_rays::<A, S>(ctx, shape, &rays, &rays.jobs, stop, &mut out);
     shade_hits::<A, S>(ctx, shape, mine, &rays, &mut hits, &mut out);
-    end_tile(&rays, cs, &mut out);
-    out
+    (rays, cs, out)
 }
 
 /// The shape a tile searches: its specialised search shape, else the whole one.
