@@ -2,6 +2,7 @@
 is closed with Euler characteristic 0; Ctrl-C stops long work with KeyboardInterrupt."""
 
 import _thread
+import signal
 import threading
 import time
 
@@ -114,6 +115,9 @@ def test_mesh_options():
 
 
 def interrupt_after(seconds):
+    # A process started in the background by a shell without job control ignores
+    # SIGINT, and then interrupt_main does nothing: give SIGINT Python's own handler.
+    signal.signal(signal.SIGINT, signal.default_int_handler)
     timer = threading.Timer(seconds, _thread.interrupt_main)
     timer.start()
     return timer
