@@ -227,34 +227,7 @@ fn warn(s: &MeshStats) {
 pub fn mesh_fields(model: &str, arith: &str, s: &MeshStats) -> Vec<(&'static str, String)> {
     let t = &s.topology;
     let opt = |v: Option<u64>| v.map_or("null".to_string(), |v| v.to_string());
-    let counters = [
-        ("depth", s.depth as u64),
-        ("level", s.level as u64),
-        ("level_wanted", s.level_wanted as u64),
-        ("finer_cells", s.finer_cells),
-        ("max_depth", s.max_depth as u64),
-        ("cells_visited", s.cells_visited),
-        ("cells_pruned", s.cells_pruned),
-        ("cells_probed", s.cells_probed),
-        ("cells_specialised", s.cells_specialised),
-        ("cells_excluded", s.cells_excluded),
-        ("unresolved_at_max_depth", s.unresolved_at_max_depth),
-        ("surface_cells", s.surface_cells),
-        ("multi_piece_cells", s.multi_piece_cells),
-        ("merged_vertices", s.merged_vertices),
-        ("crossings", s.crossings),
-        ("multi_root_edges", s.multi_root_edges),
-        ("edge_evals", s.edge_evals),
-        ("point_evals", s.point_evals),
-        ("vertices", t.vertices),
-        ("triangles", t.faces),
-        ("components", t.components),
-        ("boundary_edges", t.boundary_edges),
-        ("non_manifold_edges", t.non_manifold_edges),
-        ("non_manifold_vertices", t.non_manifold_vertices),
-        ("misoriented_edges", t.misoriented_edges),
-        ("degenerate_triangles", t.degenerate),
-    ];
+    let counters = s.counters();
     let mut fields = vec![
         ("model", json_string(model)),
         ("arith", json_string(arith)),

@@ -183,34 +183,7 @@ fn stats_dict<'py>(py: Python<'py>, s: &MeshStats, arith: &str) -> PyResult<Boun
     let d = PyDict::new(py);
     d.set_item("arith", arith)?;
     d.set_item("wall_s", s.wall.as_secs_f64())?;
-    for (k, v) in [
-        ("depth", s.depth as u64),
-        ("level", s.level as u64),
-        ("level_wanted", s.level_wanted as u64),
-        ("finer_cells", s.finer_cells),
-        ("max_depth", s.max_depth as u64),
-        ("cells_visited", s.cells_visited),
-        ("cells_pruned", s.cells_pruned),
-        ("cells_probed", s.cells_probed),
-        ("cells_specialised", s.cells_specialised),
-        ("cells_excluded", s.cells_excluded),
-        ("unresolved_at_max_depth", s.unresolved_at_max_depth),
-        ("surface_cells", s.surface_cells),
-        ("multi_piece_cells", s.multi_piece_cells),
-        ("merged_vertices", s.merged_vertices),
-        ("crossings", s.crossings),
-        ("multi_root_edges", s.multi_root_edges),
-        ("edge_evals", s.edge_evals),
-        ("point_evals", s.point_evals),
-        ("vertices", t.vertices),
-        ("triangles", t.faces),
-        ("components", t.components),
-        ("boundary_edges", t.boundary_edges),
-        ("non_manifold_edges", t.non_manifold_edges),
-        ("non_manifold_vertices", t.non_manifold_vertices),
-        ("misoriented_edges", t.misoriented_edges),
-        ("degenerate_triangles", t.degenerate),
-    ] {
+    for (k, v) in s.counters() {
         d.set_item(k, v)?;
     }
     d.set_item("euler", t.euler)?;
