@@ -37,10 +37,9 @@ use super::shade_hits::shade_hits;
 use super::tile_shapes::TileShapes;
 use super::types::{TileCtx, TileOut};
 use super::{
-    end_tile, render_tile, render_tiles, search_rays, tile_shape, trace_tile, RenderOptions,
+    end_tile, render_tile, render_tiles, search_again, tile_shape, trace_tile, RenderOptions,
     RenderResult, Tiles,
 };
-use crate::search::ray::RayJob;
 use model_ir::arith::arith_hull::HullArith as Hull;
 use model_ir::arith::arith_revaa::RevAaArith as RevAa;
 use model_ir::shape::Shape;
@@ -117,11 +116,7 @@ fn auto_tile<S: Shape>(
         out.stats.hits -= n;
         out.stats.unconfirmed -= n;
         out.stats.researched += n;
-        let jobs: Vec<RayJob> = again.iter().map(|&r| rays.jobs[r]).collect();
-        let mut hull = search_rays::<Hull, S>(ctx, shape, &rays, &jobs, stop, &mut out);
-        for h in &mut hull {
-            h.0 = again[h.0];
-        }
+        let mut hull = search_again::<Hull, S>(ctx, shape, &rays, rect, &again, stop, &mut out);
         let before = out.stats.unconfirmed;
         shade_hits::<Hull, S>(ctx, shape, mine, &rays, &mut hull, &mut out);
         out.resolved = n - (out.stats.unconfirmed - before);

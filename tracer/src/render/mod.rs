@@ -8,15 +8,17 @@
 pub mod auto_arith;
 pub mod downsample;
 pub mod shade;
+mod shade_groups;
 mod shade_hits;
 pub mod tile_shapes;
 pub mod types;
 pub mod value_tree;
 
-pub use types::{RenderOptions, RenderResult, RenderStats};
+pub use types::{RenderOptions, RenderResult, RenderStats, Search};
 
 use crate::search::cull::{CullStats, Culler};
 use crate::search::ray::{first_roots_until, RayJob, RayParams};
+use crate::search::slabs;
 use crate::search::tile_rays::{tile_rays, TileRays};
 use crate::search::windows::Windows;
 use arith_core::Arithmetic;
@@ -133,7 +135,9 @@ pub(crate) fn render_tiles<S: Shape>(
         + cam.ortho.unwrap_or(0.0) * (1.0 + opts.height as f64 / opts.width as f64);
     let step = precision.at(far).max(scale * SHADING_STEP);
     let pad = (SHADE_BOX + 4.0) * step;
-    let (per_tile, tile_evals, value_evals) = if opts.specialise && shape.specialises() {
+    // The slab search specialises its tile-slabs itself.
+    let quadtree = opts.search == Search::Paper && opts.specialise && shape.specialises();
+    let (per_tile, tile_evals, value_evals) = if quadtree {
         tile_shapes(shape, &culler, (opts.width, opts.height), tile, &tiles, pad)
     } else {
         (Vec::new(), 0, Default::default())
@@ -157,6 +161,7 @@ pub(crate) fn render_tiles<S: Shape>(
         params: &params,
         light: &light,
         scale,
+        shade_pad: 2.0 * step,
     };
     let outs = schedule(&Tiles {
         ctx,
@@ -265,11 +270,54 @@ pub(crate) fn trace_tile<A: Arithmetic, S: Shape>(
     rect: (u32, u32, u32, u32),
     stop: &(dyn Fn() -> bool + Sync),
 ) -> (TileRays<S>, CullStats, TileOut) {
+    if ctx.opts.search == Search::Slabs {
+        return slab_tile::<A, S>(ctx, rect, stop);
+    }
     let shape = tile_shape(ctx, mine);
     let (rays, cs, mut out) = cull_tile::<A, S>(ctx, shape, rect);
     let mut hits = search_rays::<A, S>(ctx, shape, &rays, &rays.jobs, stop, &mut out);
     shade_hits::<A, S>(ctx, shape, mine, &rays, &mut hits, &mut out);
     (rays, cs, out)
+}
+
+/// [`trace_tile`] by the slab search ([`slabs::search_tile`]): every ray of the tile
+/// with one job (its whole piece in the domain), its hits shaded.
+fn slab_tile<A: Arithmetic, S: Shape>(
+    ctx: &TileCtx<'_, S>,
+    rect: (u32, u32, u32, u32),
+    stop: &(dyn Fn() -> bool + Sync),
+) -> (TileRays<S>, CullStats, TileOut) {
+    let (i0, j0, i1, j1) = rect;
+    let mut out = TileOut::background(ctx.opts, ((i1 - i0) * (j1 - j0)) as usize);
+    let (opts, root) = (ctx.opts, ctx.root);
+    let t = slabs::search_tile::<A, S>(
+        ctx.culler,
+        ctx.cam,
+        &opts.domain,
+        root,
+        ctx.params,
+        rect,
+        opts.specialise,
+        None,
+        stop,
+    );
+    let st = &mut out.stats;
+    st.rays += t.jobs.len() as u64;
+    st.range_evals += t.rays.range_evals;
+    st.range_ops += t.rays.range_ops;
+    st.pruned_empty += t.rays.pruned_empty;
+    st.point_evals += t.rays.point_evals;
+    st.hits += t.hits.len() as u64;
+    st.range_evals_hit += t.hit_evals;
+    out.cut |= t.cut;
+    shade_groups::shade_groups::<A, S>(ctx, &t, &mut out);
+    let rays = TileRays {
+        traced: t.jobs.len() as u64,
+        jobs: t.jobs,
+        pixel_of: t.pixel_of,
+        locals: Vec::new(),
+    };
+    (rays, t.cells, out)
 }
 
 /// The shape a tile searches: its specialised search shape, else the whole one.
@@ -324,6 +372,57 @@ pub(crate) fn search_rays<A: Arithmetic, S: Shape>(
     });
     out.cut |= !all;
     hits
+}
+
+/// The first roots of the rays `again` (indices into `rays`, the tile `rect`'s) searched
+/// again in `A`, as `(ray, distance)`, counted in `out` (marked cut when `stop` ended
+/// the search early): by the render's search, from the depths culling left them (the
+/// paper's) or tile-slab by tile-slab over these pixels alone (the slab search).
+pub(crate) fn search_again<A: Arithmetic, S: Shape>(
+    ctx: &TileCtx<'_, S>,
+    shape: &S,
+    rays: &TileRays<S>,
+    rect: (u32, u32, u32, u32),
+    again: &[usize],
+    stop: &(dyn Fn() -> bool + Sync),
+    out: &mut TileOut,
+) -> Vec<(usize, f64)> {
+    if ctx.opts.search == Search::Paper {
+        let jobs: Vec<RayJob> = again.iter().map(|&r| rays.jobs[r]).collect();
+        let mut hits = search_rays::<A, S>(ctx, shape, rays, &jobs, stop, out);
+        for h in &mut hits {
+            h.0 = again[h.0];
+        }
+        return hits;
+    }
+    let pixels: Vec<usize> = again.iter().map(|&r| rays.pixel_of[r]).collect();
+    let opts = ctx.opts;
+    let t = slabs::search_tile::<A, S>(
+        ctx.culler,
+        ctx.cam,
+        &opts.domain,
+        ctx.root,
+        ctx.params,
+        rect,
+        opts.specialise,
+        Some(&pixels),
+        stop,
+    );
+    let st = &mut out.stats;
+    st.range_evals += t.rays.range_evals;
+    st.range_ops += t.rays.range_ops + t.cells.cell_ops;
+    st.cell_evals += t.cells.cells_tested + t.cells.cells_specialised;
+    st.pruned_empty += t.rays.pruned_empty;
+    st.point_evals += t.rays.point_evals;
+    st.hits += t.hits.len() as u64;
+    st.range_evals_hit += t.hit_evals;
+    out.cut |= t.cut;
+    let ray_of: std::collections::HashMap<usize, usize> =
+        again.iter().map(|&r| (rays.pixel_of[r], r)).collect();
+    t.hits
+        .iter()
+        .map(|&(job, d)| (ray_of[&t.pixel_of[job]], d))
+        .collect()
 }
 
 /// Adds the culling counters and the fine depth windows the rays built to `out`.

@@ -315,7 +315,7 @@ fn probe_level<S: Shape>(shape: &S, probes: impl Iterator<Item = (DVec3, f64)>) 
 
 /// Whether the segment from just off the surface at `p` (normal `n`, sample step
 /// `step`) towards the light holds a root.
-fn shadowed<A: Arithmetic, S: Shape>(
+pub(super) fn shadowed<A: Arithmetic, S: Shape>(
     ctx: &TileCtx<'_, S>,
     p: DVec3,
     n: Option<DVec3>,

@@ -49,6 +49,33 @@ pub struct RenderOptions {
     pub cancel: Option<Arc<AtomicBool>>,
     /// Tile side in pixels (the unit of parallel work and of the culling quadtree's root).
     pub tile: u32,
+    /// How each pixel's first root is searched for.
+    pub search: Search,
+}
+
+/// How the renderer searches for each pixel's first root. Both are sound and find the
+/// same first roots within the precision.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Search {
+    /// Image tiles by depth slabs, each tile-slab one interval evaluation in a batch,
+    /// down to Algorithm 1 on each ray's piece in a leaf's slab
+    /// ([`crate::search::slabs`]): the fastest.
+    #[default]
+    Slabs,
+    /// The revised-affine paper's: Algorithm 2's cell culling in the arithmetic's cell
+    /// form ([`crate::search::cull`], only with [`RenderOptions::culling`]), then
+    /// Algorithm 1 on each ray from the depths culling left; for the paper's counts.
+    Paper,
+}
+
+impl Search {
+    /// Its name on the command line and in `--stats json`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Search::Slabs => "slabs",
+            Search::Paper => "paper",
+        }
+    }
 }
 
 impl RenderOptions {
@@ -75,6 +102,7 @@ impl RenderOptions {
             deadline: None,
             cancel: None,
             tile: 64,
+            search: Search::default(),
         }
     }
 
@@ -354,4 +382,6 @@ pub(crate) struct TileCtx<'a, S> {
     pub(crate) light: &'a Light,
     /// The domain's diagonal.
     pub(crate) scale: f64,
+    /// How far the shading samples of a hit reach from it, at most (with a margin).
+    pub(crate) shade_pad: f64,
 }

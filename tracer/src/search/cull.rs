@@ -214,6 +214,18 @@ impl Culler {
         self
     }
 
+    /// The depths (along `forward`) of the domain's points, margin included: every
+    /// ray's piece inside the domain lies in this range.
+    pub fn depth_range(&self) -> (f64, f64) {
+        self.s_range
+    }
+
+    /// A pixel's width per unit of depth (for an orthographic view, its width at the
+    /// far end of the domain, divided by that depth).
+    pub fn pixel_width_per_depth(&self) -> f64 {
+        self.pixel_angle
+    }
+
     /// The componentwise least and greatest ray directions (un-normalised, see
     /// [`Camera::raw_dir`]) of the pixel centres of `[i0, i1) x [j0, j1)`: the four corner
     /// directions bound all others, `raw_dir` being affine in the pixel coordinates.
@@ -318,7 +330,7 @@ impl Culler {
     /// The depth range is then cut to the box's (further rounds of box and depth range
     /// tightened little once cells are tested in their frustum form).
     #[inline]
-    fn box_of(
+    pub(crate) fn box_of(
         &self,
         (dmin, dmax): (DVec3, DVec3),
         (omin, omax): (DVec3, DVec3),
