@@ -10,7 +10,7 @@ use model_ir::arith::ArithKind;
 use model_sources::Model;
 use std::path::PathBuf;
 use tracer::render::downsample::downsample_render;
-use tracer::render::{render_kind, RenderOptions, RenderResult, RenderStats};
+use tracer::render::{render_kind, RenderOptions, RenderResult, RenderStats, Search};
 use tracer_kit::bspline_filter::Filter;
 use tracer_kit::out;
 use tracer_kit::output::{check_outputs, write_depth, write_png};
@@ -42,7 +42,13 @@ pub struct RenderArgs {
     /// Absolute precision of roots along rays (default: a quarter pixel footprint).
     #[arg(long, allow_hyphen_values = true)]
     pub eps: Option<String>,
-    /// Disable cell culling (Algorithm 2).
+    /// How each pixel's first root is searched for: slabs (image tiles by depth slabs,
+    /// each one interval evaluation, down to Algorithm 1 on short pieces of the rays;
+    /// the fastest) or paper (Algorithm 2's cell culling, then Algorithm 1 on each ray,
+    /// as the revised-affine paper; for its counts). Both find the same first roots.
+    #[arg(long, default_value = "slabs", allow_hyphen_values = true)]
+    pub search: String,
+    /// Disable cell culling (Algorithm 2, with --search paper).
     #[arg(long)]
     pub no_culling: bool,
     /// Disable argument pruning.
@@ -180,7 +186,9 @@ pub fn run_render(a: &RenderArgs) -> Result<(), String> {
     // Fail on a refused or unwritable output before a long render.
     check_outputs(&out, a.depth.as_deref())?;
 
+    let search: Search = a.search.parse().map_err(|e| format!("--search: {e}"))?;
     let mut opts = RenderOptions::for_view(view, domain, vw, vh);
+    opts.search = search;
     opts.eps = eps;
     opts.culling = !a.no_culling;
     opts.pruning = !a.no_pruning;
@@ -220,11 +228,14 @@ pub fn run_render(a: &RenderArgs) -> Result<(), String> {
         );
     }
     if json {
-        let j = stats_json(&render_fields(&name, width, height, arith_name, &res.stats));
+        let run = (arith_name, search);
+        let j = stats_json(&render_fields(&name, width, height, run, &res.stats));
         out!("{j}");
     } else {
         out!(
-            "{name} {width}x{height} arith={arith_name} culling={} pruning={} shadows={}",
+            "{name} {width}x{height} arith={arith_name} search={} culling={} pruning={} \
+             shadows={}",
+            search.name(),
             opts.culling,
             opts.pruning,
             opts.shadows
@@ -250,12 +261,12 @@ pub fn run_render(a: &RenderArgs) -> Result<(), String> {
 
 /// The fields of a render's `--stats json` object: every counter of
 /// [`RenderStats`] under its field name, `wall_s` for the wall time, and the render's
-/// model, size and arithmetic.
+/// model, size, arithmetic and search.
 pub fn render_fields(
     model: &str,
     width: u32,
     height: u32,
-    arith: &str,
+    (arith, search): (&str, Search),
     s: &RenderStats,
 ) -> Vec<(&'static str, String)> {
     let counters = s.counters();
@@ -264,6 +275,7 @@ pub fn render_fields(
         ("width", width.to_string()),
         ("height", height.to_string()),
         ("arith", json_string(arith)),
+        ("search", json_string(search.name())),
         ("wall_s", format!("{:?}", s.wall.as_secs_f64())),
         ("cut", s.cut.to_string()),
     ];

@@ -733,6 +733,7 @@ fn stats_as_json() {
         "\"width\": 16",
         "\"height\": 12",
         "\"arith\": \"auto\"",
+        "\"search\": \"slabs\"",
         "\"wall_s\": ",
         "\"rays\": ",
         "\"shadow_rays\": ",
@@ -767,6 +768,46 @@ fn stats_as_json() {
         &["render", "csg", "--size", "8x8", "--stats", "xml"],
         "--stats 'xml'",
     );
+    assert_user_error(
+        &["render", "csg", "--size", "8x8", "--search", "fast"],
+        "--search: unknown search 'fast' (slabs or paper)",
+    );
+}
+
+/// `--search paper` renders the same hit pixels as the default search on a ball (no
+/// root there is closer to another than the precision) and says so in its statistics.
+#[test]
+fn paper_search_gives_the_same_hits() {
+    let hits = |search: &str| {
+        let png = tmp(&format!("search-{search}.png"));
+        let out = tracer(&[
+            "render",
+            "--expr",
+            "1 - x^2 - y^2 - z^2",
+            "--size",
+            "24x18",
+            "--quiet",
+            "--stats",
+            "json",
+            "--search",
+            search,
+            "--out",
+            png.to_str().unwrap(),
+        ]);
+        assert_eq!(out.status.code(), Some(0), "{out:?}");
+        let j = String::from_utf8_lossy(&out.stdout).to_string();
+        assert!(j.contains(&format!("\"search\": \"{search}\"")), "{j}");
+        let n: u64 = j
+            .split("\"hits\": ")
+            .nth(1)
+            .and_then(|r| r.split([',', '}']).next())
+            .and_then(|v| v.trim().parse().ok())
+            .expect("hits is a number");
+        n
+    };
+    let slabs = hits("slabs");
+    assert!(slabs > 50);
+    assert_eq!(slabs, hits("paper"));
 }
 
 #[test]

@@ -9,7 +9,7 @@ use crate::toolkit::camera::{check_size, Camera, MAX_SIDE};
 use crate::toolkit::models::AnyShape;
 use crate::toolkit::render::{
     downsample_render, render_auto, render_kind, write_depth, write_png, Filter, Kernel, Progress,
-    RenderOptions, RenderResult, RenderStats,
+    RenderOptions, RenderResult, RenderStats, Search,
 };
 use crate::toolkit::{ArithKind, View};
 use numpy::{PyArray1, PyArray2, PyArray3, PyArrayMethods, PyUntypedArrayMethods};
@@ -46,7 +46,10 @@ type RenderArrays<'py> = (
 /// part of it; ``arith`` (``"auto"``: ``revaa``, hits it cannot confirm searched again in ``hull``; or
 /// ``ia``, ``aa``, ``raa``, ``revaa``, ``hull``); ``domain`` (the box rays are clipped
 /// to; default the shape's); ``eps`` (the precision of roots along rays; default a
-/// quarter pixel); ``culling``, ``pruning``, ``specialise``, ``shadows``; ``aa`` (N x N
+/// quarter pixel); ``search`` (``"slabs"``: image tiles by depth slabs, the fastest;
+/// ``"paper"``: Algorithm 2's culling then Algorithm 1 per ray, as the revised-affine
+/// paper; both find the same first roots); ``culling`` (with ``search="paper"``),
+/// ``pruning``, ``specialise``, ``shadows``; ``aa`` (N x N
 /// rays per pixel, filtered by ``filter``: ``box``, ``tent``, ``quadratic``,
 /// ``cubic``); ``threads`` (default: one per core); ``progress`` (``True`` for a line
 /// on stderr, or a function ``f(done, total)`` of tiles); ``device`` (``"cpu"``).
@@ -60,11 +63,12 @@ type RenderArrays<'py> = (
 #[pyfunction]
 #[pyo3(signature = (
     shape, size=(640, 480), camera=None, arith="auto", *, eye=None, look_at=None, up=None,
-    fov=None, ortho=None, domain=None, eps=None, culling=true, pruning=true,
+    fov=None, ortho=None, domain=None, eps=None, search="slabs", culling=true, pruning=true,
     specialise=true, shadows=false, aa=1, filter="quadratic", threads=None,
     progress=None, device="cpu"
 ), text_signature = "(shape, size=(640, 480), camera=None, arith='auto', *, eye=None, \
-    look_at=None, up=None, fov=None, ortho=None, domain=None, eps=None, culling=True, \
+    look_at=None, up=None, fov=None, ortho=None, domain=None, eps=None, search='slabs', \
+    culling=True, \
     pruning=True, specialise=True, shadows=False, aa=1, filter='quadratic', threads=None, \
     progress=None, device='cpu')")]
 #[allow(clippy::too_many_arguments)]
@@ -81,6 +85,7 @@ pub fn render<'py>(
     ortho: Option<f64>,
     domain: Option<&Bound<'py, PyAny>>,
     eps: Option<f64>,
+    search: &str,
     culling: bool,
     pruning: bool,
     specialise: bool,
@@ -125,7 +130,9 @@ pub fn render<'py>(
             ));
         }
     }
+    let search: Search = search.parse().map_err(|e| value_error("search", e))?;
     let mut opts = RenderOptions::for_view(view, dom, vw, vh);
+    opts.search = search;
     opts.eps = eps;
     opts.culling = culling;
     opts.pruning = pruning;
@@ -144,7 +151,8 @@ pub fn render<'py>(
         plan.trace(model, cancel, counter)
     })?
     .map_err(|e| value_error("render", e))?;
-    let stats = stats_dict(py, &res.stats, plan.kind.map_or("auto", |k| k.name()))?;
+    let run = (plan.kind.map_or("auto", |k| k.name()), plan.opts.search);
+    let stats = stats_dict(py, &res.stats, run)?;
     warn_unconfirmed(py, &res.stats)?;
     let (rgb, depth) = arrays(py, res)?;
     Ok((rgb, depth, stats))
@@ -251,10 +259,16 @@ fn arrays(
     Ok((rgb, depth))
 }
 
-/// Every counter of `s` under its field name, `wall_s`, and the arithmetic used.
-fn stats_dict<'py>(py: Python<'py>, s: &RenderStats, arith: &str) -> PyResult<Bound<'py, PyDict>> {
+/// Every counter of `s` under its field name, `wall_s`, and the arithmetic and search
+/// used.
+fn stats_dict<'py>(
+    py: Python<'py>,
+    s: &RenderStats,
+    (arith, search): (&str, Search),
+) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("arith", arith)?;
+    d.set_item("search", search.name())?;
     d.set_item("wall_s", s.wall.as_secs_f64())?;
     d.set_item("cut", s.cut)?;
     for (k, v) in s.counters() {

@@ -36,7 +36,7 @@ pub mod camera {
 pub mod render {
     pub use tracer::render::auto_arith::render_auto;
     pub use tracer::render::downsample::downsample_render;
-    pub use tracer::render::{render_kind, RenderOptions, RenderResult, RenderStats};
+    pub use tracer::render::{render_kind, RenderOptions, RenderResult, RenderStats, Search};
     pub use tracer::tracer_kit::bspline_filter::{Filter, Kernel};
     pub use tracer::tracer_kit::output::{write_depth, write_png};
     pub use tracer::tracer_kit::progress::Progress;

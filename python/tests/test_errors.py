@@ -81,6 +81,11 @@ def test_unknown_arithmetic():
             call()
 
 
+def test_unknown_search():
+    with pytest.raises(ValueError, match="search.*unknown search 'xyz'.*slabs or paper"):
+        tracer.render(BALL, size=(8, 8), search="xyz")
+
+
 def test_bad_formula_names_line_and_column():
     with pytest.raises(tracer.ModelError) as e:
         tracer.Shape("1 - x^2 +* y")

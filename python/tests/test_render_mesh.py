@@ -38,12 +38,15 @@ def sphere_depth(width, height, fov):
     return depth, closest
 
 
+@pytest.mark.parametrize("search", ["slabs", "paper"])
 @pytest.mark.parametrize("arith", ["auto"] + tracer.arithmetics())
-def test_sphere_depth_is_analytic(arith):
+def test_sphere_depth_is_analytic(arith, search):
     w, h, fov = 48, 36, 40.0
     shape = tracer.Shape(f"{R * R} - x^2 - y^2 - z^2", domain=((-1, -1, -1), (1, 1, 1)))
     cam = tracer.Camera(tuple(EYE), fov=fov)
-    rgb, depth, stats = tracer.render(shape, size=(w, h), camera=cam, arith=arith, eps=1e-7)
+    rgb, depth, stats = tracer.render(
+        shape, size=(w, h), camera=cam, arith=arith, eps=1e-7, search=search
+    )
     assert rgb.shape == (h, w, 3) and rgb.dtype == np.uint8
     assert depth.shape == (h, w) and depth.dtype == np.float32
     want, closest = sphere_depth(w, h, fov)
@@ -55,7 +58,7 @@ def test_sphere_depth_is_analytic(arith):
     # Rays that pass the sphere by a margin hit nothing.
     assert np.isinf(depth[closest > 0.01]).all()
     assert stats["hits"] == int(np.isfinite(depth).sum())
-    assert stats["arith"] == arith
+    assert stats["arith"] == arith and stats["search"] == search
     assert (rgb[~np.isfinite(depth)] == rgb[0, 0]).all()  # background
 
 

@@ -68,6 +68,18 @@ pub enum Search {
     Paper,
 }
 
+impl std::str::FromStr for Search {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "slabs" => Ok(Search::Slabs),
+            "paper" => Ok(Search::Paper),
+            _ => Err(format!("unknown search '{s}' (slabs or paper)")),
+        }
+    }
+}
+
 impl Search {
     /// Its name on the command line and in `--stats json`.
     pub fn name(self) -> &'static str {

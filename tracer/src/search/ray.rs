@@ -606,6 +606,82 @@ pub fn first_roots_until<A: Arithmetic, S: Shape + ?Sized>(
     params: &RayParams,
     rays: &[RayJob],
     stop: impl Fn() -> bool,
+    done: impl FnMut(usize, Option<f64>, RayStats),
+) -> bool {
+    Lockstep::<A>::default().run(shape, windows, params, rays, stop, done)
+}
+
+/// The buffers of [`first_roots_until`] (searches in flight, their stacks and ranges,
+/// the batch), kept from one call of [`Lockstep::run`] to the next by a caller that
+/// searches many small sets of rays.
+pub struct Lockstep<A: Arithmetic> {
+    slots: Vec<Option<Slot>>,
+    stacks: Vec<Vec<(f64, f64)>>,
+    ranges: Vec<Option<A::Ray>>,
+    groups: Groups,
+    batch: Batch<A::RayPack>,
+}
+
+impl<A: Arithmetic> Default for Lockstep<A> {
+    fn default() -> Self {
+        Lockstep {
+            slots: (0..SLOTS).map(|_| None).collect(),
+            stacks: (0..SLOTS).map(|_| Vec::with_capacity(64)).collect(),
+            ranges: (0..SLOTS).map(|_| None).collect(),
+            groups: Groups::default(),
+            batch: Batch::default(),
+        }
+    }
+}
+
+impl<A: Arithmetic> Lockstep<A> {
+    /// [`first_roots_until`] with these buffers.
+    pub fn run<S: Shape + ?Sized>(
+        &mut self,
+        shape: &S,
+        windows: &[&Windows<S>],
+        params: &RayParams,
+        rays: &[RayJob],
+        stop: impl Fn() -> bool,
+        done: impl FnMut(usize, Option<f64>, RayStats),
+    ) -> bool {
+        let Lockstep {
+            slots,
+            stacks,
+            ranges,
+            groups,
+            batch,
+        } = self;
+        slots.iter_mut().for_each(|s| *s = None);
+        lockstep::<A, S>(
+            shape,
+            windows,
+            params,
+            rays,
+            (slots, stacks, ranges, groups, batch),
+            stop,
+            done,
+        )
+    }
+}
+
+/// The buffers [`lockstep`] works in.
+type Buffers<'b, A> = (
+    &'b mut [Option<Slot>],
+    &'b mut [Vec<(f64, f64)>],
+    &'b mut [Option<<A as Arithmetic>::Ray>],
+    &'b mut Groups,
+    &'b mut Batch<<A as Arithmetic>::RayPack>,
+);
+
+/// The loop of [`first_roots_until`], in `buffers` (every slot empty).
+fn lockstep<A: Arithmetic, S: Shape + ?Sized>(
+    shape: &S,
+    windows: &[&Windows<S>],
+    params: &RayParams,
+    rays: &[RayJob],
+    (slots, stacks, ranges, groups, batch): Buffers<'_, A>,
+    stop: impl Fn() -> bool,
     mut done: impl FnMut(usize, Option<f64>, RayStats),
 ) -> bool {
     let ctx = |r: &RayJob| RayCtx {
@@ -616,11 +692,6 @@ pub fn first_roots_until<A: Arithmetic, S: Shape + ?Sized>(
         d: r.d,
         params,
     };
-    let mut slots: Vec<Option<Slot>> = (0..SLOTS).map(|_| None).collect();
-    let mut stacks: Vec<Vec<(f64, f64)>> = (0..SLOTS).map(|_| Vec::with_capacity(64)).collect();
-    let mut ranges: Vec<Option<A::Ray>> = (0..SLOTS).map(|_| None).collect();
-    let mut groups = Groups::default();
-    let mut batch = Batch::<A::RayPack>::default();
     let mut queue = 0..rays.len();
     let mut steps = 0u32;
     loop {
@@ -628,7 +699,7 @@ pub fn first_roots_until<A: Arithmetic, S: Shape + ?Sized>(
         if steps.is_multiple_of(STOP_EVERY) && stop() {
             return false;
         }
-        for (slot, stack) in slots.iter_mut().zip(&mut stacks) {
+        for (slot, stack) in slots.iter_mut().zip(stacks.iter_mut()) {
             while slot.is_none() {
                 let Some(ray) = queue.next() else { break };
                 let mut stats = RayStats::default();
@@ -662,7 +733,7 @@ pub fn first_roots_until<A: Arithmetic, S: Shape + ?Sized>(
         };
         for group in groups.iter() {
             let sh = shapes[group[0]].expect("a grouped slot has a shape");
-            batch.eval(sh, group, inputs, &mut ranges);
+            batch.eval(sh, group, inputs, ranges);
         }
         for k in 0..SLOTS {
             let (Some(s), Some(f)) = (slots[k].as_mut(), ranges[k].take()) else {

@@ -7,7 +7,7 @@
 //! holds no root of any of its rays and is skipped; one that does not is specialised to
 //! its box ([`Shape::specialise`]) and split into sub-tiles and sub-slabs
 //! ([`LEVEL_SPLITS`]), down to leaf tiles whose rays are searched by Algorithm 1
-//! ([`first_roots_until`], in the render's arithmetic and with its argument pruning) on
+//! ([`super::ray::first_roots_until`], in the render's arithmetic and with its argument pruning) on
 //! their piece inside the leaf's slab only. A pixel whose root is found takes no part
 //! in deeper slabs, and a tile whose pixels all have theirs visits no deeper slab
 //! (occlusion, as fidget's voxel renderer does).
@@ -23,7 +23,7 @@
 //! it.
 
 use super::cull::{CullStats, Culler};
-use super::ray::{clip_with, first_roots_until, RayJob, RayParams, RayStats, Start};
+use super::ray::{clip_with, Lockstep, RayJob, RayParams, RayStats, Start};
 use arith_core::{Arithmetic, Range};
 use arith_ia::Interval;
 use model_ir::camera::Camera;
@@ -109,6 +109,7 @@ struct Search<'a, A: Arithmetic, S> {
     levels: Vec<Boxes>,
     leaf_jobs: Vec<RayJob>,
     leaf_of: Vec<u32>,
+    lockstep: Lockstep<A>,
     _arith: core::marker::PhantomData<(A, fn(&S))>,
 }
 
@@ -180,6 +181,7 @@ pub fn search_tile<A: Arithmetic, S: Shape>(
         levels: (0..=LEVEL_SPLITS.len()).map(|_| Boxes::default()).collect(),
         leaf_jobs: Vec::new(),
         leaf_of: Vec::new(),
+        lockstep: Lockstep::default(),
         _arith: core::marker::PhantomData,
     };
     let pixels: Vec<(u32, u32)> = match only {
@@ -389,8 +391,10 @@ impl<A: Arithmetic, S: Shape> Search<'_, A, S> {
         );
         let (tw, leaf, blocks_w) = (self.tw, self.leaf, self.blocks_w);
         let pixel_of = &self.out.pixel_of;
-        let all =
-            first_roots_until::<A, S>(shape, &[], self.params, &jobs, self.stop, |k, hit, rs| {
+        let (stop, params) = (self.stop, self.params);
+        let all = self
+            .lockstep
+            .run(shape, &[], params, &jobs, stop, |k, hit, rs| {
                 *rays += rs;
                 let job = of[k] as usize;
                 evals[job] += rs.range_evals;

@@ -1,5 +1,6 @@
 //! Ground truth: hit masks and depths computed analytically (ray-sphere quadratic,
-//! ray-box slabs), for every arithmetic, with and without culling and pruning.
+//! ray-box slabs), for every arithmetic and both searches (the slab search, and the
+//! paper's with and without culling), with and without pruning.
 //!
 //! Strict direction: every pixel whose analytic ray meets the surface must be reported as
 //! a hit (no missed roots). The only pixels left out of that check are those whose
@@ -15,7 +16,7 @@ use glam::DVec3;
 use model_ir::arith::ArithKind;
 use model_ir::camera::Camera;
 use model_ir::shape::{Aabb, Shape, View};
-use tracer::render::{render_kind, RenderOptions, RenderResult};
+use tracer::render::{render_kind, RenderOptions, RenderResult, Search};
 use tracer::search::ray::clip;
 
 const W: u32 = 48;
@@ -107,12 +108,18 @@ fn domain() -> Aabb {
     Aabb::cube(1.5)
 }
 
-fn configs() -> Vec<(ArithKind, bool, bool)> {
+/// Every arithmetic, search and pruning; culling on and off for the paper's search
+/// (the slab search has its own and no switch).
+fn configs() -> Vec<(ArithKind, Search, bool, bool)> {
     let mut v = Vec::new();
     for k in ArithKind::ALL {
-        for culling in [false, true] {
+        for (search, culling) in [
+            (Search::Slabs, true),
+            (Search::Paper, false),
+            (Search::Paper, true),
+        ] {
             for pruning in [false, true] {
-                v.push((k, culling, pruning));
+                v.push((k, search, culling, pruning));
             }
         }
     }
@@ -122,12 +129,11 @@ fn configs() -> Vec<(ArithKind, bool, bool)> {
 fn render<S: Shape>(
     shape: &S,
     view: View,
-    k: ArithKind,
-    culling: bool,
-    pruning: bool,
+    (k, search, culling, pruning): (ArithKind, Search, bool, bool),
     eps: Option<f64>,
 ) -> RenderResult {
     let mut o = RenderOptions::for_view(view, domain(), W, H);
+    o.search = search;
     o.culling = culling;
     o.pruning = pruning;
     o.eps = eps;
@@ -148,8 +154,8 @@ fn check<S: Shape>(
     depth_check: bool,
 ) {
     let cam = Camera::new(view, W, H);
-    for (k, culling, pruning) in configs() {
-        let r = render(shape, view, k, culling, pruning, eps);
+    for (k, search, culling, pruning) in configs() {
+        let r = render(shape, view, (k, search, culling, pruning), eps);
         let prec = RenderOptions::for_view(view, domain(), W, H);
         let prec = RenderOptions { eps, ..prec }.precision(&cam);
         let mut analytic_hits = 0;
@@ -159,7 +165,9 @@ fn check<S: Shape>(
                 let (o, d) = cam.ray(i, j);
                 let (margin, t_true) = analytic(o, d);
                 let seg = clip(o, d, &domain(), 0.0);
-                let tag = format!("{name} {k} culling={culling} pruning={pruning} pixel ({i},{j})");
+                let tag = format!(
+                    "{name} {k} {search:?} culling={culling} pruning={pruning} pixel ({i},{j})"
+                );
                 if margin > 1e-9 && seg.is_some() {
                     analytic_hits += 1;
                     assert!(r.hit[idx], "{tag}: analytic hit at t={t_true} was missed");
@@ -296,9 +304,15 @@ fn straight_ortho_views_give_the_analytic_disc_and_square() {
             0.5 * width * h as f64 / w as f64 - (j as f64 + 0.5) * px,
         )
     };
+    let searches = [
+        (Search::Slabs, true),
+        (Search::Paper, false),
+        (Search::Paper, true),
+    ];
     for k in ArithKind::ALL {
-        for culling in [false, true] {
+        for (search, culling) in searches {
             let mut o = RenderOptions::for_view(v, domain(), w, h);
+            o.search = search;
             o.culling = culling;
             o.eps = Some(1e-4);
             let ball = render_kind(k, &Ball, &o).unwrap();
@@ -308,7 +322,7 @@ fn straight_ortho_views_give_the_analytic_disc_and_square() {
                 for i in 0..w {
                     let idx = (j * w + i) as usize;
                     let (u, vv) = uv(i, j);
-                    let tag = format!("{k} culling={culling} pixel ({i},{j})");
+                    let tag = format!("{k} {search:?} culling={culling} pixel ({i},{j})");
                     let q = 1.0 - u * u - vv * vv;
                     if q.abs() > 1e-9 {
                         assert_eq!(ball.hit[idx], q > 0.0, "sphere {tag}");

@@ -9,4 +9,5 @@ mod hyperfun;
 mod model_files;
 mod progressive_engine;
 mod render_api;
+mod slab_search;
 mod specialise;
