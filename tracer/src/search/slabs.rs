@@ -28,6 +28,7 @@ use arith_core::{Arithmetic, Range};
 use arith_ia::Interval;
 use model_ir::camera::Camera;
 use model_ir::shape::{Aabb, Shape};
+use model_ir::shape_batch::Batch;
 
 /// Below an image tile, each level splits a tile-slab's tile into `n x n` sub-tiles
 /// and its slab into `n` sub-slabs (so a tile-slab stays about as deep as it is wide):
@@ -41,6 +42,14 @@ pub const SPECIALISE_LEVELS: usize = 2;
 /// The level of the tile-slabs whose hits make a [`HitGroup`] (1: the image tile's
 /// slabs' sub-tile-slabs).
 pub const GROUP_LEVEL: usize = 1;
+
+/// Tile-slabs the cell-form test ([`Search::cell_test`]) is tried on in an image tile
+/// before its share of exclusions decides whether it goes on.
+pub const CELL_TEST_TRIAL: u64 = 32;
+
+/// The share of the tile-slabs it is given that the cell-form test must exclude to go
+/// on being tried.
+pub const CELL_TEST_SHARE: f64 = 0.125;
 
 /// The most slabs an image tile's depth is cut into.
 pub const MAX_SLABS: usize = 512;
@@ -110,6 +119,13 @@ struct Search<'a, A: Arithmetic, S> {
     leaf_jobs: Vec<RayJob>,
     leaf_of: Vec<u32>,
     lockstep: Lockstep<A>,
+    /// The second test, in the arithmetic's cell form: its batch, group and ranges,
+    /// and how many tile-slabs it was tried on and excluded in this tile.
+    cell_batch: Batch<A::CellPack>,
+    cell_group: Vec<usize>,
+    cell_out: Vec<Option<A::Cell>>,
+    cell_tries: u64,
+    cell_wins: u64,
     _arith: core::marker::PhantomData<(A, fn(&S))>,
 }
 
@@ -121,6 +137,8 @@ struct Boxes {
     y: Vec<Interval>,
     z: Vec<Interval>,
     range: Vec<Interval>,
+    /// Per range: whether the tile-slab may hold a root (neither test excluded it).
+    keep: Vec<bool>,
 }
 
 impl Boxes {
@@ -182,6 +200,11 @@ pub fn search_tile<A: Arithmetic, S: Shape>(
         leaf_jobs: Vec::new(),
         leaf_of: Vec::new(),
         lockstep: Lockstep::default(),
+        cell_batch: Batch::default(),
+        cell_group: Vec::new(),
+        cell_out: Vec::new(),
+        cell_tries: 0,
+        cell_wins: 0,
         _arith: core::marker::PhantomData,
     };
     let pixels: Vec<(u32, u32)> = match only {
@@ -291,6 +314,7 @@ impl<A: Arithmetic, S: Shape> Search<'_, A, S> {
         let tested = bx.range.len() as u64;
         self.out.cells.cells_tested += tested;
         self.out.cells.cell_ops += tested * shape.tape_len().unwrap_or(0) as u64;
+        self.cell_test(shape, &mut bx);
         let mut r = 0;
         for &(q, s, b) in &bx.which {
             if self.out.cut || !self.any_open(q) {
@@ -298,9 +322,8 @@ impl<A: Arithmetic, S: Shape> Search<'_, A, S> {
                 continue;
             }
             let Some(b) = b else { continue };
-            let range = &bx.range[r];
             r += 1;
-            if !range.contains_zero() {
+            if !bx.keep[r - 1] {
                 self.out.cells.cells_culled += 1;
                 continue;
             }
@@ -337,6 +360,53 @@ impl<A: Arithmetic, S: Shape> Search<'_, A, S> {
             }
         }
         self.levels[level] = bx;
+    }
+
+    /// Which tile-slabs of `bx` may hold a root: those whose interval range holds 0,
+    /// less those the arithmetic's cell form (each side of the box its own input)
+    /// excludes. The cell form is tighter where intervals lose the dependency between
+    /// terms (polynomials), no tighter on `min`/`max` of simple primitives, and costs
+    /// several interval evaluations: it is tried while it excludes at least
+    /// [`CELL_TEST_SHARE`] of the tile-slabs it is given in this image tile (after
+    /// [`CELL_TEST_TRIAL`] of them), which depends on the tile alone.
+    fn cell_test(&mut self, shape: &S, bx: &mut Boxes) {
+        bx.keep.clear();
+        bx.keep.extend(bx.range.iter().map(|r| r.contains_zero()));
+        let worth = self.cell_tries < CELL_TEST_TRIAL
+            || self.cell_wins as f64 >= CELL_TEST_SHARE * self.cell_tries as f64;
+        if A::NAME == Interval::NAME || !worth {
+            return;
+        }
+        self.cell_group.clear();
+        self.cell_group
+            .extend((0..bx.keep.len()).filter(|&k| bx.keep[k]));
+        if self.cell_group.is_empty() {
+            return;
+        }
+        self.cell_out.clear();
+        self.cell_out.resize(bx.keep.len(), None);
+        let input = |k: usize| {
+            let side = |i: usize, v: &Interval| {
+                let (lo, hi) = v.bounds();
+                A::Cell::input(i, lo, hi)
+            };
+            [side(0, &bx.x[k]), side(1, &bx.y[k]), side(2, &bx.z[k])]
+        };
+        self.cell_batch
+            .eval(shape, &self.cell_group, input, &mut self.cell_out);
+        let n = self.cell_group.len() as u64;
+        self.cell_tries += n;
+        self.out.cells.cells_tested += n;
+        self.out.cells.cell_ops += n * shape.tape_len().unwrap_or(0) as u64;
+        for &k in &self.cell_group {
+            if self.cell_out[k]
+                .as_ref()
+                .is_some_and(|f| !f.contains_zero())
+            {
+                bx.keep[k] = false;
+                self.cell_wins += 1;
+            }
+        }
     }
 
     /// The sub-tiles of `q` `m` times smaller (whole leaf blocks, clipped to `q`).
