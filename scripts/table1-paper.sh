@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Table 1 at the paper's resolutions: renders each Appendix A model with
-# `tracer render MODEL --size WxH` (its built-in view, our default arithmetic unless
-# ARITH says otherwise) at the resolution of the paper's Table 1 (Fryazinov, Pasko,
+# `tracer render MODEL --size WxH` (its built-in view, our default arithmetic and
+# search unless ARITH and SEARCH say otherwise: SEARCH=paper for the paper's) at the
+# resolution of the paper's Table 1 (Fryazinov, Pasko,
 # Comninos 2009; figures in bench-suite/src/paper.rs), times the whole process, best of
 # ROUNDS rounds (the models alternate within a round), and prints the paper's RevAA
 # seconds over ours, beside the `--stats json` counters. Prints a markdown table and
@@ -30,10 +31,14 @@ ALL=$(echo "$ROWS" | awk '{print $1}' | tr '\n' ' ')
 MODELS=${MODELS:-$ALL}
 ROUNDS=${ROUNDS:-3}
 ARITH=${ARITH:-auto}
+SEARCH=${SEARCH:-slabs}
 DOC=${DOC-docs/table1-paper.md}
 [ -n "${ROUNDS##*[!0-9]*}" ] && [ "$ROUNDS" -ge 1 ] || { echo "error: ROUNDS '$ROUNDS' is not a whole number above 0" >&2; exit 2; }
 case "$ARITH" in auto|ia|aa|raa|revaa|hull) ;;
     *) echo "error: ARITH '$ARITH' is not auto, ia, aa, raa, revaa or hull" >&2; exit 2 ;;
+esac
+case "$SEARCH" in slabs|paper) ;;
+    *) echo "error: SEARCH '$SEARCH' is not slabs or paper" >&2; exit 2 ;;
 esac
 for m in $MODELS; do
     echo "$ROWS" | awk -v m="$m" '$1 == m {f = 1} END {exit !f}' \
@@ -52,7 +57,7 @@ for r in $(seq 1 "$ROUNDS"); do
     for m in $MODELS; do
         echo "round $r/$ROUNDS: $m at $(size_of "$m")" >&2
         t0=$(now_ns)
-        /usr/bin/time -f "%U %S" -o "$tmp/$m-$r.cpu" "$TRACER" render "$m" --size "$(size_of "$m")" --arith "$ARITH" --stats json -q \
+        /usr/bin/time -f "%U %S" -o "$tmp/$m-$r.cpu" "$TRACER" render "$m" --size "$(size_of "$m")" --arith "$ARITH" --search "$SEARCH" --stats json -q \
             --out "$tmp/$m.png" > "$tmp/$m-$r.json" 2> "$tmp/$m-$r.err" \
             || { cat "$tmp/$m-$r.err" >&2; exit 1; }
         t1=$(now_ns)
@@ -61,7 +66,7 @@ for r in $(seq 1 "$ROUNDS"); do
 done
 
 echo "$ROWS" > "$tmp/rows"
-cmd="ROUNDS=$ROUNDS ARITH=$ARITH scripts/table1-paper.sh"
+cmd="ROUNDS=$ROUNDS ARITH=$ARITH SEARCH=$SEARCH scripts/table1-paper.sh"
 [ "$MODELS" = "$ALL" ] || cmd="MODELS=\"$MODELS\" $cmd"
 echo "$load0 / $(cut -d' ' -f1-3 /proc/loadavg)" > "$tmp/load"
 python3 - "$tmp" "$ROUNDS" "$(git rev-parse --short HEAD 2>/dev/null || echo unknown)" \

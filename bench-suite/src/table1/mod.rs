@@ -29,7 +29,7 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
-use tracer::render::{render_kind, RenderOptions, RenderResult};
+use tracer::render::{render_kind, RenderOptions, RenderResult, Search};
 
 /// Default fraction of the paper's resolution per axis.
 pub const DEFAULT_SCALE: f64 = 0.1;
@@ -362,6 +362,8 @@ pub fn render_cancellable(
 ) -> Result<RenderResult, String> {
     let model = m.model();
     let mut o = RenderOptions::new(&model, w, h);
+    // The paper's search: Algorithm 1 per ray, Algorithm 2's culling where asked.
+    o.search = Search::Paper;
     o.culling = culling;
     o.pruning = true;
     o.shadows = false;

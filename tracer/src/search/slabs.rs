@@ -32,8 +32,16 @@ use model_ir::shape_batch::Batch;
 
 /// Below an image tile, each level splits a tile-slab's tile into `n x n` sub-tiles
 /// and its slab into `n` sub-slabs (so a tile-slab stays about as deep as it is wide):
-/// 64-pixel tiles, then 16, then 8-pixel leaves, as fidget's renderer.
-pub const LEVEL_SPLITS: [u32; 2] = [4, 2];
+/// 64-pixel tiles, then 16, then 8-pixel leaves, as fidget's renderer; the last split,
+/// to 4-pixel leaves, only for shapes longer than [`LONG_TAPE`] there.
+pub const LEVEL_SPLITS: [u32; 3] = [4, 2, 2];
+
+/// A tile-slab whose shape is longer than this (or is not a tape) takes the last split
+/// of [`LEVEL_SPLITS`]: its rays' searches cost more than the interval tests of the
+/// smaller boxes that spare some of them (fidget's bear: 27% less CPU, 40% fewer range
+/// evaluations along rays; on the colonnade, whose 8-pixel tapes are about 14
+/// instructions long, the split costs 18% more).
+pub const LONG_TAPE: usize = 64;
 
 /// Tile-slabs down to this level specialise their shape (0: the image tile's slabs);
 /// deeper ones search with their parent's.
@@ -343,7 +351,9 @@ impl<A: Arithmetic, S: Shape> Search<'_, A, S> {
             if level + 1 == GROUP_LEVEL {
                 self.out.parents.push(b);
             }
-            match LEVEL_SPLITS.get(level) {
+            let short =
+                level + 1 == LEVEL_SPLITS.len() && here.tape_len().is_some_and(|n| n <= LONG_TAPE);
+            match LEVEL_SPLITS.get(level).filter(|_| !short) {
                 Some(&m) => {
                     let quads = self.split(q, m);
                     self.visit(level + 1, &quads, s, m, here);
