@@ -65,6 +65,7 @@
 #![warn(missing_docs)]
 
 pub mod branches;
+pub mod cell_tape;
 pub mod certificate;
 pub mod consistency;
 pub mod dual_contour;
@@ -497,7 +498,7 @@ fn run<A: Arithmetic, S: Shape>(
         max_depth: opts.max_depth,
         ..MeshStats::default()
     };
-    let (level, cells) = search::<A, S>(shape, opts, meter, &mut stats)?;
+    let (level, cells, tapes) = search::<A, S>(shape, opts, meter, &mut stats)?;
     let grid = grid::Grid::new(&opts.domain, level);
     let contour = dual_contour::Contour {
         shape,
@@ -510,7 +511,7 @@ fn run<A: Arithmetic, S: Shape>(
     };
     meter.phase("contouring", CONTOUR_SHARE, 0);
     let (mesh, c) = contour
-        .run::<A>(&cells, meter)
+        .run::<A>(&cells, &tapes, meter)
         .ok_or(MeshError::Cancelled)?;
     stats.level = level;
     stats.surface_cells = c.cells;
@@ -522,7 +523,14 @@ fn run<A: Arithmetic, S: Shape>(
     stats.point_evals += c.corners;
     if opts.certify {
         meter.phase("certificate", 0.5, 1);
-        stats.certified_cells = Some(certify::<A, S>(shape, &opts.domain, &grid, level, &cells));
+        stats.certified_cells = Some(certify::<A, S>(
+            shape,
+            &opts.domain,
+            &grid,
+            level,
+            &cells,
+            &tapes,
+        ));
         meter.tick(1);
     }
     if cancelled(cancel) {
@@ -552,6 +560,9 @@ fn cancelled(c: Option<&AtomicBool>) -> bool {
     c.is_some_and(|c| c.load(Ordering::Relaxed))
 }
 
+/// The leaf level, its surface cells and their value tapes.
+type Leaves<S> = (u32, Vec<[u32; 3]>, Vec<cell_tape::CellTape<S>>);
+
 /// The octree search, raised to the level that thin features need within the memory
 /// limit and the work budget ([`RISE_WORK`]): the leaf level and its surface cells.
 fn search<A: Arithmetic, S: Shape>(
@@ -559,7 +570,7 @@ fn search<A: Arithmetic, S: Shape>(
     opts: &MeshOptions,
     meter: &Meter,
     stats: &mut MeshStats,
-) -> Result<(u32, Vec<[u32; 3]>), MeshError> {
+) -> Result<Leaves<S>, MeshError> {
     let mut level = opts.depth;
     loop {
         let tree = octree::Octree {
@@ -617,20 +628,26 @@ fn search<A: Arithmetic, S: Shape>(
         stats.unresolved_box = held
             .into_iter()
             .fold(d.unresolved_box, |u, b| octree::union(u, Some(b)));
-        return Ok((level, d.cells));
+        return Ok((level, d.cells, d.tapes));
     }
 }
 
-/// The number of `cells` at `level` that the Plantinga–Vegter test certifies.
+/// The number of `cells` at `level` that the Plantinga–Vegter test certifies, each on
+/// its value tape (`tapes`).
 fn certify<A: Arithmetic, S: Shape>(
     shape: &S,
     domain: &Aabb,
     grid: &grid::Grid,
     level: u32,
     cells: &[[u32; 3]],
+    tapes: &[cell_tape::CellTape<S>],
 ) -> u64 {
     cells
         .par_iter()
-        .filter(|&&c| certificate::certified::<A, S>(shape, domain, &grid.cell_box(level, c)))
+        .zip(tapes)
+        .filter(|&(&c, t)| {
+            let s = cell_tape::tape(shape, t);
+            certificate::certified::<A, S>(s, domain, &grid.cell_box(level, c))
+        })
         .count() as u64
 }
