@@ -13,7 +13,8 @@
 //! level must reach that sub-level. A crease (two sheets meeting at an edge) keeps the
 //! counts and costs no refinement.
 
-use super::grid::{inside, Grid};
+use super::grid::{inside_batch, Grid};
+use glam::DVec3;
 use super::topology::UnionFind;
 use model_ir::shape::{Aabb, Shape};
 
@@ -40,13 +41,14 @@ pub fn finer_topology<S: Shape>(
     let fine = level + levels;
     // Signs on the (n + 1)^3 lattice.
     let m = n + 1;
-    let signs: Vec<bool> = (0..m * m * m)
+    let points: Vec<DVec3> = (0..m * m * m)
         .map(|i| {
             let (x, y, z) = (i % m, i / m % m, i / (m * m));
-            let p = [base[0] + x as u32, base[1] + y as u32, base[2] + z as u32];
-            inside(shape, domain, grid.point(fine, p))
+            grid.point(fine, [base[0] + x as u32, base[1] + y as u32, base[2] + z as u32])
         })
         .collect();
+    let mut signs = Vec::with_capacity(points.len());
+    inside_batch(shape, domain, &points, &mut signs);
     let coarse = counts(&signs, m, n);
     for k in 1..=levels {
         if counts(&signs, m, 1 << (levels - k)) != coarse {

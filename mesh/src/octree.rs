@@ -25,7 +25,10 @@
 //!
 //! A leaf with a sign change that is not certified is checked on a finer lattice of
 //! points ([`super::consistency`]): where the lattice shows another topology than the
-//! corners (a thin shell through a corner), the leaf level must rise too.
+//! corners (a thin shell through a corner), the leaf level must rise too. Each such
+//! leaf is checked once, at most `9^3` points in one batch evaluation of its own tape,
+//! so these checks are bounded by the mesh's size on their own and take nothing from
+//! the probes' budget (nor leave cells unresolved).
 //!
 //! Every [`SPECIALISE_EVERY`] levels the shape is specialised to the cell
 //! ([`Shape::specialise`], sign-only) and the shorter shape serves the cell's subtree's
@@ -36,7 +39,7 @@
 use super::cell_tape::{specialise_to, tape, CellTape};
 use super::certificate::certified;
 use super::consistency::finer_topology;
-use super::exclusion::{gradient_verdict, interval_excludes, Verdict};
+use super::exclusion::{gradient_verdict, interval_excludes, Test, Verdict};
 use super::grid::{cell_inputs, corner_mask, corner_of, crosses, Clipped, Grid};
 use arith_core::{Arithmetic, Range};
 use model_ir::shape::{Aabb, Shape};
@@ -51,13 +54,11 @@ pub const SPECIALISE_EVERY: u32 = 1;
 pub const PROBE_BUDGET: u32 = 256;
 
 /// Sub-cells each task may probe whatever it finds.
-pub const PROBE_FLOOR: u64 = 256;
+pub const PROBE_FLOOR: u64 = 64;
 
 /// Sub-cells a task may probe per surface cell it has found.
-pub const PROBE_PER_CELL: u64 = 16;
+pub const PROBE_PER_CELL: u64 = 4;
 
-/// Sub-cells that one point of a finer lattice counts for in the budget.
-const POINTS_PER_UNIT: u64 = 8;
 
 /// Cells are handed to threads as the subtrees below this level.
 const TASK_LEVEL: u32 = 3;
@@ -69,6 +70,9 @@ pub struct Descent<S> {
     pub cells: Vec<[u32; 3]>,
     /// Each leaf's value-exact tape ([`super::cell_tape`]), in the order of `cells`.
     pub tapes: Vec<CellTape<S>>,
+    /// Whether the Plantinga–Vegter test certifies each leaf (on its value tape), in
+    /// the order of `cells`.
+    pub certified: Vec<bool>,
     /// The deepest level at which a probe below the leaf level found a sign change
     /// (the leaf level itself when none did).
     pub needs: u32,
@@ -83,7 +87,7 @@ pub struct Descent<S> {
     /// Cells that interval arithmetic or the mean value form excluded while the
     /// arithmetic's range did not.
     pub excluded: u64,
-    /// Budget units spent (sub-cells probed, lattice points / 8).
+    /// Budget units spent (sub-cells probed).
     pub spent: u64,
     /// Cells whose range was evaluated.
     pub visited: u64,
@@ -108,6 +112,7 @@ impl<S> Default for Descent<S> {
         Descent {
             cells: Vec::new(),
             tapes: Vec::new(),
+            certified: Vec::new(),
             needs: 0,
             unresolved: 0,
             unresolved_box: None,
@@ -142,6 +147,7 @@ impl<S> Descent<S> {
     fn merge(&mut self, o: Descent<S>) {
         self.cells.extend(o.cells);
         self.tapes.extend(o.tapes);
+        self.certified.extend(o.certified);
         self.needs = self.needs.max(o.needs);
         self.unresolved += o.unresolved;
         self.unresolved_box = union(self.unresolved_box, o.unresolved_box);
@@ -296,21 +302,34 @@ impl<S: Shape> Octree<'_, S> {
                 d.pruned += 1;
                 continue;
             }
-            let kv = specialise_to(self.shape, value, &self.grid.cell_box(level + 1, k));
+            // A leaf specialises only once its corners show a sign change.
+            let kv = if level + 1 == self.level {
+                value.clone()
+            } else {
+                specialise_to(self.shape, value, &self.grid.cell_box(level + 1, k))
+            };
             self.crossing::<A>(sub, &kv, level + 1, k, d);
         }
     }
 
-    /// A leaf whose range holds 0: kept (with its value tape) where its corners differ
-    /// in sign, else excluded or probed.
+    /// A leaf whose range holds 0 (`value`: a value tape valid over it): kept, with its
+    /// own value tape, where its corners differ in sign, else excluded or probed.
     fn leaf<A: Arithmetic>(&self, shape: &S, value: &CellTape<S>, c: [u32; 3], d: &mut Descent<S>) {
         let level = self.level;
         let v = tape(self.shape, value);
         let m = self.corner_mask(v, level, c, d);
         if crosses(m) {
+            let b = self.grid.cell_box(level, c);
+            let own = specialise_to(self.shape, value, &b);
+            let v = tape(self.shape, &own);
+            d.certificates += 1;
+            let sure = certified::<A, S>(v, &self.domain, &b);
+            if !sure {
+                self.check_pieces(v, level, c, d);
+            }
             d.cells.push(c);
-            d.tapes.push(value.clone());
-            self.check_pieces::<A>(shape, v, level, c, d);
+            d.tapes.push(own);
+            d.certified.push(sure);
         } else if interval_excludes(shape, &self.domain, &self.grid.cell_box(level, c)) {
             d.excluded += 1;
         } else {
@@ -353,8 +372,8 @@ impl<S: Shape> Octree<'_, S> {
         let b = self.grid.cell_box(level, c);
         d.certificates += 1;
         match gradient_verdict::<A, S>(shape, &self.domain, &b) {
-            Verdict::Excluded(_) => {
-                d.excluded += 1;
+            Verdict::Excluded(t) => {
+                d.excluded += (t != Test::Range) as u64;
                 return false;
             }
             Verdict::Certified => return false,
@@ -372,10 +391,9 @@ impl<S: Shape> Octree<'_, S> {
             }
             *budget -= 1;
             d.probed += 1;
+            // The cheapest test first; the arithmetic's range comes with the gradient's
+            // ranges in the sub-cell's own probe.
             let kb = self.grid.cell_box(l, k);
-            if !self.may_cross::<A>(shape, &kb) {
-                continue;
-            }
             if interval_excludes(shape, &self.domain, &kb) {
                 d.excluded += 1;
                 continue;
@@ -390,32 +408,16 @@ impl<S: Shape> Octree<'_, S> {
     }
 
     /// For a leaf with a sign change that the Plantinga–Vegter test does not certify:
-    /// whether a finer lattice shows another topology than its corners
-    /// ([`finer_topology`]); if so the leaf level must reach that sub-level.
-    /// `shape` serves the certificate, `value` (valid over the cell) the lattice.
-    fn check_pieces<A: Arithmetic>(
-        &self,
-        shape: &S,
-        value: &S,
-        level: u32,
-        c: [u32; 3],
-        d: &mut Descent<S>,
-    ) {
+    /// whether a finer lattice (of `value`, valid over the cell) shows another topology
+    /// than its corners ([`finer_topology`]); if so the leaf level must reach that
+    /// sub-level.
+    fn check_pieces(&self, value: &S, level: u32, c: [u32; 3], d: &mut Descent<S>) {
         if level >= self.max_depth {
-            return;
-        }
-        d.certificates += 1;
-        if certified::<A, S>(shape, &self.domain, &self.grid.cell_box(level, c)) {
-            return;
-        }
-        if d.allowance() == 0 {
-            d.unresolved(&self.grid.cell_box(level, c));
             return;
         }
         let levels = self.max_depth - level;
         let (k, evals) = finer_topology(value, &self.domain, &self.grid, level, c, levels);
         d.point_evals += evals;
-        d.spent += evals.div_ceil(POINTS_PER_UNIT);
         if let Some(k) = k {
             d.finer += 1;
             d.needs = d.needs.max(level + k);
