@@ -91,7 +91,10 @@ mod tests {
         let k = specialise_to(&t, &parent, &c);
         let k = tape(&t, &k);
         assert!(k.len() <= s.len());
-        assert_eq!(k.eval(2.8, -0.1, -0.2).to_bits(), t.eval(2.8, -0.1, -0.2).to_bits());
+        assert_eq!(
+            k.eval(2.8, -0.1, -0.2).to_bits(),
+            t.eval(2.8, -0.1, -0.2).to_bits()
+        );
     }
 
     #[test]

@@ -15,7 +15,6 @@
 
 use super::grid::{inside_batch, Grid};
 use glam::DVec3;
-use super::topology::UnionFind;
 use model_ir::shape::{Aabb, Shape};
 
 /// How many levels below the leaf the lattice goes at most (`9^3` points).
@@ -44,7 +43,10 @@ pub fn finer_topology<S: Shape>(
     let points: Vec<DVec3> = (0..m * m * m)
         .map(|i| {
             let (x, y, z) = (i % m, i / m % m, i / (m * m));
-            grid.point(fine, [base[0] + x as u32, base[1] + y as u32, base[2] + z as u32])
+            grid.point(
+                fine,
+                [base[0] + x as u32, base[1] + y as u32, base[2] + z as u32],
+            )
         })
         .collect();
     let mut signs = Vec::with_capacity(points.len());
@@ -59,37 +61,54 @@ pub fn finer_topology<S: Shape>(
 }
 
 /// The numbers of 6-connected components of inside and of outside points on the
-/// sub-lattice of `signs` (a lattice of side `m`) with step `step`.
+/// sub-lattice of `signs` (a lattice of side `m`) with step `step`: a flood fill from
+/// each point not yet reached, over the points' coordinates (no division per point).
 fn counts(signs: &[bool], m: usize, step: usize) -> (usize, usize) {
     let s = (m - 1) / step + 1;
-    let at = |x: usize, y: usize, z: usize| signs[(x * step) + (y * step) * m + (z * step) * m * m];
+    let at = |x: usize, y: usize, z: usize| signs[(x + y * m + z * m * m) * step];
     let idx = |x: usize, y: usize, z: usize| x + y * s + z * s * s;
-    let mut uf = UnionFind::new(s * s * s);
-    for z in 0..s {
-        for y in 0..s {
-            for x in 0..s {
-                let v = at(x, y, z);
-                if x + 1 < s && at(x + 1, y, z) == v {
-                    uf.union(idx(x, y, z), idx(x + 1, y, z));
-                }
-                if y + 1 < s && at(x, y + 1, z) == v {
-                    uf.union(idx(x, y, z), idx(x, y + 1, z));
-                }
-                if z + 1 < s && at(x, y, z + 1) == v {
-                    uf.union(idx(x, y, z), idx(x, y, z + 1));
-                }
-            }
-        }
-    }
+    let mut seen = vec![false; s * s * s];
+    let mut stack: Vec<[usize; 3]> = Vec::with_capacity(s * s * s);
     let (mut ins, mut outs) = (0, 0);
-    for z in 0..s {
-        for y in 0..s {
-            for x in 0..s {
-                if uf.find(idx(x, y, z)) == idx(x, y, z) {
-                    if at(x, y, z) {
-                        ins += 1;
-                    } else {
-                        outs += 1;
+    for z0 in 0..s {
+        for y0 in 0..s {
+            for x0 in 0..s {
+                if seen[idx(x0, y0, z0)] {
+                    continue;
+                }
+                let v = at(x0, y0, z0);
+                if v {
+                    ins += 1;
+                } else {
+                    outs += 1;
+                }
+                seen[idx(x0, y0, z0)] = true;
+                stack.push([x0, y0, z0]);
+                while let Some([x, y, z]) = stack.pop() {
+                    let mut visit = |x: usize, y: usize, z: usize| {
+                        let i = idx(x, y, z);
+                        if !seen[i] && at(x, y, z) == v {
+                            seen[i] = true;
+                            stack.push([x, y, z]);
+                        }
+                    };
+                    if x > 0 {
+                        visit(x - 1, y, z);
+                    }
+                    if x + 1 < s {
+                        visit(x + 1, y, z);
+                    }
+                    if y > 0 {
+                        visit(x, y - 1, z);
+                    }
+                    if y + 1 < s {
+                        visit(x, y + 1, z);
+                    }
+                    if z > 0 {
+                        visit(x, y, z - 1);
+                    }
+                    if z + 1 < s {
+                        visit(x, y, z + 1);
                     }
                 }
             }
@@ -117,6 +136,30 @@ mod tests {
         fn eval<R: Real>(&self, x: R, _y: R, _z: R) -> R {
             x.rsub(self.0)
         }
+    }
+
+    #[test]
+    fn components_are_counted_on_each_sub_lattice() {
+        // A 5^3 lattice: inside at two opposite corners of it, and on a wall x = 2
+        // broken at its centre point.
+        let m = 5;
+        let mut signs = vec![false; m * m * m];
+        let idx = |x: usize, y: usize, z: usize| x + y * m + z * m * m;
+        signs[idx(0, 0, 0)] = true;
+        signs[idx(4, 4, 4)] = true;
+        assert_eq!(counts(&signs, m, 1), (2, 1));
+        assert_eq!(counts(&signs, m, 4), (2, 1));
+        // A full wall at x = 2 splits the outside in two at steps 1 and 2 (its points
+        // are on both sub-lattices; at step 2 it also touches both corners), not at
+        // step 4 (which skips it).
+        for y in 0..m {
+            for z in 0..m {
+                signs[idx(2, y, z)] = true;
+            }
+        }
+        assert_eq!(counts(&signs, m, 1), (3, 2));
+        assert_eq!(counts(&signs, m, 2), (1, 2));
+        assert_eq!(counts(&signs, m, 4), (2, 1));
     }
 
     #[test]

@@ -159,7 +159,8 @@ impl<S: Shape> Contour<'_, S> {
             .collect();
         first_reader(&mut order);
         let mut keys: Vec<u64> = order.iter().map(|o| o.0).collect();
-        let mut tapes: Vec<CellTape<S>> = order.iter().map(|o| tapes[o.1 as usize].clone()).collect();
+        let mut tapes: Vec<CellTape<S>> =
+            order.iter().map(|o| tapes[o.1 as usize].clone()).collect();
         let n = 1u32 << self.level;
         loop {
             if self.cancelled() {
@@ -182,7 +183,8 @@ impl<S: Shape> Contour<'_, S> {
             missing.par_sort_unstable();
             missing.dedup();
             stats.added_cells += missing.len() as u64;
-            let mut all: Vec<(u64, CellTape<S>)> = cells.keys.into_iter().zip(cells.tapes).collect();
+            let mut all: Vec<(u64, CellTape<S>)> =
+                cells.keys.into_iter().zip(cells.tapes).collect();
             all.extend(missing.into_iter().map(|k| (k, None)));
             all.par_sort_unstable_by_key(|a| a.0);
             (keys, tapes) = all.into_iter().unzip();

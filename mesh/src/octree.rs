@@ -59,7 +59,6 @@ pub const PROBE_FLOOR: u64 = 64;
 /// Sub-cells a task may probe per surface cell it has found.
 pub const PROBE_PER_CELL: u64 = 4;
 
-
 /// Cells are handed to threads as the subtrees below this level.
 const TASK_LEVEL: u32 = 3;
 
@@ -70,8 +69,8 @@ pub struct Descent<S> {
     pub cells: Vec<[u32; 3]>,
     /// Each leaf's value-exact tape ([`super::cell_tape`]), in the order of `cells`.
     pub tapes: Vec<CellTape<S>>,
-    /// Whether the Plantinga–Vegter test certifies each leaf (on its value tape), in
-    /// the order of `cells`.
+    /// Whether the Plantinga–Vegter test certifies each leaf (on its sign tape, whose
+    /// zero set is the shape's there), in the order of `cells`.
     pub certified: Vec<bool>,
     /// The deepest level at which a probe below the leaf level found a sign change
     /// (the leaf level itself when none did).
@@ -319,16 +318,16 @@ impl<S: Shape> Octree<'_, S> {
         let v = tape(self.shape, value);
         let m = self.corner_mask(v, level, c, d);
         if crosses(m) {
+            // The certificate and the lattice read the sign tape: they ask about the
+            // zero set only, which it shares with the shape, and it is the shortest.
             let b = self.grid.cell_box(level, c);
-            let own = specialise_to(self.shape, value, &b);
-            let v = tape(self.shape, &own);
             d.certificates += 1;
-            let sure = certified::<A, S>(v, &self.domain, &b);
+            let sure = certified::<A, S>(shape, &self.domain, &b);
             if !sure {
-                self.check_pieces(v, level, c, d);
+                self.check_pieces(shape, level, c, d);
             }
             d.cells.push(c);
-            d.tapes.push(own);
+            d.tapes.push(specialise_to(self.shape, value, &b));
             d.certified.push(sure);
         } else if interval_excludes(shape, &self.domain, &self.grid.cell_box(level, c)) {
             d.excluded += 1;
@@ -408,15 +407,15 @@ impl<S: Shape> Octree<'_, S> {
     }
 
     /// For a leaf with a sign change that the Plantinga–Vegter test does not certify:
-    /// whether a finer lattice (of `value`, valid over the cell) shows another topology
+    /// whether a finer lattice (of `shape`, valid over the cell) shows another topology
     /// than its corners ([`finer_topology`]); if so the leaf level must reach that
     /// sub-level.
-    fn check_pieces(&self, value: &S, level: u32, c: [u32; 3], d: &mut Descent<S>) {
+    fn check_pieces(&self, shape: &S, level: u32, c: [u32; 3], d: &mut Descent<S>) {
         if level >= self.max_depth {
             return;
         }
         let levels = self.max_depth - level;
-        let (k, evals) = finer_topology(value, &self.domain, &self.grid, level, c, levels);
+        let (k, evals) = finer_topology(shape, &self.domain, &self.grid, level, c, levels);
         d.point_evals += evals;
         if let Some(k) = k {
             d.finer += 1;
