@@ -61,60 +61,77 @@ pub fn finer_topology<S: Shape>(
 }
 
 /// The numbers of 6-connected components of inside and of outside points on the
-/// sub-lattice of `signs` (a lattice of side `m`) with step `step`: a flood fill from
-/// each point not yet reached, over the points' coordinates (no division per point).
+/// sub-lattice of `signs` (a lattice of side `m`) with step `step`, each set as one bit
+/// mask per row along x (at most [`MAX_LEVELS`] levels: 9 points a row).
 fn counts(signs: &[bool], m: usize, step: usize) -> (usize, usize) {
     let s = (m - 1) / step + 1;
-    let at = |x: usize, y: usize, z: usize| signs[(x + y * m + z * m * m) * step];
-    let idx = |x: usize, y: usize, z: usize| x + y * s + z * s * s;
-    let mut seen = vec![false; s * s * s];
-    let mut stack: Vec<[usize; 3]> = Vec::with_capacity(s * s * s);
-    let (mut ins, mut outs) = (0, 0);
-    for z0 in 0..s {
-        for y0 in 0..s {
-            for x0 in 0..s {
-                if seen[idx(x0, y0, z0)] {
-                    continue;
-                }
-                let v = at(x0, y0, z0);
-                if v {
-                    ins += 1;
-                } else {
-                    outs += 1;
-                }
-                seen[idx(x0, y0, z0)] = true;
-                stack.push([x0, y0, z0]);
-                while let Some([x, y, z]) = stack.pop() {
-                    let mut visit = |x: usize, y: usize, z: usize| {
-                        let i = idx(x, y, z);
-                        if !seen[i] && at(x, y, z) == v {
-                            seen[i] = true;
-                            stack.push([x, y, z]);
-                        }
-                    };
-                    if x > 0 {
-                        visit(x - 1, y, z);
-                    }
-                    if x + 1 < s {
-                        visit(x + 1, y, z);
-                    }
-                    if y > 0 {
-                        visit(x, y - 1, z);
-                    }
-                    if y + 1 < s {
-                        visit(x, y + 1, z);
-                    }
-                    if z > 0 {
-                        visit(x, y, z - 1);
-                    }
-                    if z + 1 < s {
-                        visit(x, y, z + 1);
+    let full = (1u16 << s) - 1;
+    let (mut ins, mut outs) = ([0u16; ROWS], [0u16; ROWS]);
+    for z in 0..s {
+        for y in 0..s {
+            let row = (0..s).fold(0u16, |r, x| {
+                r | (signs[(x + y * m + z * m * m) * step] as u16) << x
+            });
+            ins[y + z * s] = row;
+            outs[y + z * s] = !row & full;
+        }
+    }
+    (components(&mut ins, s), components(&mut outs, s))
+}
+
+/// Rows of the finest lattice (`9 x 9`).
+const ROWS: usize = 81;
+
+/// The 6-connected components of the points in `left` (row `y + z s` of a lattice of
+/// side `s`, bit `x`), which it empties: each component is claimed from a seed, a run
+/// along its row at a time, then the runs its claimed runs touch in the four
+/// neighbouring rows.
+fn components(left: &mut [u16; ROWS], s: usize) -> usize {
+    let mut n = 0;
+    let mut claimed = [0u16; ROWS];
+    let mut todo = Vec::with_capacity(ROWS);
+    for r0 in 0..s * s {
+        while left[r0] != 0 {
+            n += 1;
+            let seed = left[r0] & left[r0].wrapping_neg();
+            let run = run_of(seed, left[r0]);
+            left[r0] &= !run;
+            claimed[r0] = run;
+            todo.push(r0);
+            while let Some(r) = todo.pop() {
+                let c = std::mem::take(&mut claimed[r]);
+                let (y, z) = (r % s, r / s);
+                let near = [
+                    (y > 0).then(|| r - 1),
+                    (y + 1 < s).then_some(r + 1),
+                    (z > 0).then(|| r - s),
+                    (z + 1 < s).then_some(r + s),
+                ];
+                for q in near.into_iter().flatten() {
+                    let touch = c & left[q];
+                    if touch != 0 {
+                        let g = run_of(touch, left[q]);
+                        left[q] &= !g;
+                        claimed[q] |= g;
+                        todo.push(q);
                     }
                 }
             }
         }
     }
-    (ins, outs)
+    n
+}
+
+/// The runs of consecutive bits of `mask` that hold a bit of `seed`.
+fn run_of(seed: u16, mask: u16) -> u16 {
+    let mut g = seed & mask;
+    loop {
+        let next = (g | g << 1 | g >> 1) & mask;
+        if next == g {
+            return g;
+        }
+        g = next;
+    }
 }
 
 #[cfg(test)]

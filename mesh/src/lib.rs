@@ -295,8 +295,9 @@ pub struct MeshStats {
     pub unresolved_at_max_depth: u64,
     /// The box around the unresolved cells (`None` when there are none).
     pub unresolved_box: Option<Aabb>,
-    /// Cells that interval arithmetic or the mean value form excluded where the
-    /// arithmetic's range did not ([`exclusion`]).
+    /// Cells that interval arithmetic or the mean value form excluded ([`exclusion`]):
+    /// leaves whose arithmetic's range held 0, and sub-cells of probes (interval
+    /// arithmetic, the cheapest, is tried before the arithmetic's range there).
     pub cells_excluded: u64,
     /// Leaves with a sign change (the cells contoured).
     pub surface_cells: u64,
