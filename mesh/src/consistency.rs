@@ -13,8 +13,8 @@
 //! level must reach that sub-level. A crease (two sheets meeting at an edge) keeps the
 //! counts and costs no refinement.
 
-use super::grid::{inside, Grid};
-use super::topology::UnionFind;
+use super::grid::{inside_batch, Grid};
+use glam::DVec3;
 use model_ir::shape::{Aabb, Shape};
 
 /// How many levels below the leaf the lattice goes at most (`9^3` points).
@@ -40,13 +40,17 @@ pub fn finer_topology<S: Shape>(
     let fine = level + levels;
     // Signs on the (n + 1)^3 lattice.
     let m = n + 1;
-    let signs: Vec<bool> = (0..m * m * m)
+    let points: Vec<DVec3> = (0..m * m * m)
         .map(|i| {
             let (x, y, z) = (i % m, i / m % m, i / (m * m));
-            let p = [base[0] + x as u32, base[1] + y as u32, base[2] + z as u32];
-            inside(shape, domain, grid.point(fine, p))
+            grid.point(
+                fine,
+                [base[0] + x as u32, base[1] + y as u32, base[2] + z as u32],
+            )
         })
         .collect();
+    let mut signs = Vec::with_capacity(points.len());
+    inside_batch(shape, domain, &points, &mut signs);
     let coarse = counts(&signs, m, n);
     for k in 1..=levels {
         if counts(&signs, m, 1 << (levels - k)) != coarse {
@@ -57,43 +61,77 @@ pub fn finer_topology<S: Shape>(
 }
 
 /// The numbers of 6-connected components of inside and of outside points on the
-/// sub-lattice of `signs` (a lattice of side `m`) with step `step`.
+/// sub-lattice of `signs` (a lattice of side `m`) with step `step`, each set as one bit
+/// mask per row along x (at most [`MAX_LEVELS`] levels: 9 points a row).
 fn counts(signs: &[bool], m: usize, step: usize) -> (usize, usize) {
     let s = (m - 1) / step + 1;
-    let at = |x: usize, y: usize, z: usize| signs[(x * step) + (y * step) * m + (z * step) * m * m];
-    let idx = |x: usize, y: usize, z: usize| x + y * s + z * s * s;
-    let mut uf = UnionFind::new(s * s * s);
+    let full = (1u16 << s) - 1;
+    let (mut ins, mut outs) = ([0u16; ROWS], [0u16; ROWS]);
     for z in 0..s {
         for y in 0..s {
-            for x in 0..s {
-                let v = at(x, y, z);
-                if x + 1 < s && at(x + 1, y, z) == v {
-                    uf.union(idx(x, y, z), idx(x + 1, y, z));
-                }
-                if y + 1 < s && at(x, y + 1, z) == v {
-                    uf.union(idx(x, y, z), idx(x, y + 1, z));
-                }
-                if z + 1 < s && at(x, y, z + 1) == v {
-                    uf.union(idx(x, y, z), idx(x, y, z + 1));
-                }
-            }
+            let row = (0..s).fold(0u16, |r, x| {
+                r | (signs[(x + y * m + z * m * m) * step] as u16) << x
+            });
+            ins[y + z * s] = row;
+            outs[y + z * s] = !row & full;
         }
     }
-    let (mut ins, mut outs) = (0, 0);
-    for z in 0..s {
-        for y in 0..s {
-            for x in 0..s {
-                if uf.find(idx(x, y, z)) == idx(x, y, z) {
-                    if at(x, y, z) {
-                        ins += 1;
-                    } else {
-                        outs += 1;
+    (components(&mut ins, s), components(&mut outs, s))
+}
+
+/// Rows of the finest lattice (`9 x 9`).
+const ROWS: usize = 81;
+
+/// The 6-connected components of the points in `left` (row `y + z s` of a lattice of
+/// side `s`, bit `x`), which it empties: each component is claimed from a seed, a run
+/// along its row at a time, then the runs its claimed runs touch in the four
+/// neighbouring rows.
+fn components(left: &mut [u16; ROWS], s: usize) -> usize {
+    let mut n = 0;
+    let mut claimed = [0u16; ROWS];
+    let mut todo = Vec::with_capacity(ROWS);
+    for r0 in 0..s * s {
+        while left[r0] != 0 {
+            n += 1;
+            let seed = left[r0] & left[r0].wrapping_neg();
+            let run = run_of(seed, left[r0]);
+            left[r0] &= !run;
+            claimed[r0] = run;
+            todo.push(r0);
+            while let Some(r) = todo.pop() {
+                let c = std::mem::take(&mut claimed[r]);
+                let (y, z) = (r % s, r / s);
+                let near = [
+                    (y > 0).then(|| r - 1),
+                    (y + 1 < s).then_some(r + 1),
+                    (z > 0).then(|| r - s),
+                    (z + 1 < s).then_some(r + s),
+                ];
+                for q in near.into_iter().flatten() {
+                    let touch = c & left[q];
+                    if touch != 0 {
+                        let g = run_of(touch, left[q]);
+                        left[q] &= !g;
+                        claimed[q] |= g;
+                        todo.push(q);
                     }
                 }
             }
         }
     }
-    (ins, outs)
+    n
+}
+
+/// The runs of consecutive bits of `mask` that hold a bit of `seed`.
+fn run_of(seed: u16, mask: u16) -> u16 {
+    let mut g = seed & mask;
+    loop {
+        let next = (g | g << 1 | g >> 1) & mask;
+        if next == g {
+            return g;
+        }
+        g = next;
+    }
 }
 
 #[cfg(test)]
@@ -115,6 +153,30 @@ mod tests {
         fn eval<R: Real>(&self, x: R, _y: R, _z: R) -> R {
             x.rsub(self.0)
         }
+    }
+
+    #[test]
+    fn components_are_counted_on_each_sub_lattice() {
+        // A 5^3 lattice: inside at two opposite corners of it, and on a wall x = 2
+        // broken at its centre point.
+        let m = 5;
+        let mut signs = vec![false; m * m * m];
+        let idx = |x: usize, y: usize, z: usize| x + y * m + z * m * m;
+        signs[idx(0, 0, 0)] = true;
+        signs[idx(4, 4, 4)] = true;
+        assert_eq!(counts(&signs, m, 1), (2, 1));
+        assert_eq!(counts(&signs, m, 4), (2, 1));
+        // A full wall at x = 2 splits the outside in two at steps 1 and 2 (its points
+        // are on both sub-lattices; at step 2 it also touches both corners), not at
+        // step 4 (which skips it).
+        for y in 0..m {
+            for z in 0..m {
+                signs[idx(2, y, z)] = true;
+            }
+        }
+        assert_eq!(counts(&signs, m, 1), (3, 2));
+        assert_eq!(counts(&signs, m, 2), (1, 2));
+        assert_eq!(counts(&signs, m, 4), (2, 1));
     }
 
     #[test]

@@ -6,11 +6,15 @@
 //! from the QEF of its crossings ([`super::qef`]), constrained to the cell within the
 //! domain (shrunk by a hair, so the vertices of neighbouring cells never coincide). The crossings come
 //! from root isolation on the edges ([`super::edge_roots`]), the signs from point
-//! values at the corners. Cells that the search dropped cannot touch a sign-changing
+//! values at the corners. Every value is read through the value tape of a cell that
+//! holds the point ([`super::cell_tape`]): the whole shape's value, bit for bit, from a
+//! formula cut down to the cell; each corner and edge is evaluated once, by the first
+//! cell that reads it. Cells that the search dropped cannot touch a sign-changing
 //! edge (a cell whose corners differ in sign has 0 in its range); should one be missing
 //! all the same (a model that is not continuous), it is added here, so each quad has
 //! its four cells and the mesh stays closed.
 
+use super::cell_tape::{first_reader, tape, CellTape};
 use super::edge_roots::{crossing, Crossing};
 use super::grid::{corner_of, edge_between, edge_corners, face_corners, inside, key, unkey, Grid};
 use super::merge::{merge, Clustered};
@@ -68,13 +72,14 @@ pub struct Contour<'a, S> {
     pub cancel: Option<&'a AtomicBool>,
 }
 
-/// Cells (sorted keys) with their corner masks.
-struct Cells {
+/// Cells (sorted keys) with their corner masks and value tapes.
+struct Cells<S> {
     keys: Vec<u64>,
     masks: Vec<u8>,
+    tapes: Vec<CellTape<S>>,
 }
 
-impl Cells {
+impl<S> Cells<S> {
     fn index(&self, c: [u32; 3]) -> Option<usize> {
         self.keys.binary_search(&key(c)).ok()
     }
@@ -85,20 +90,27 @@ impl<S: Shape> Contour<'_, S> {
         self.cancel.is_some_and(|c| c.load(Ordering::Relaxed))
     }
 
-    /// The mesh of `cells` (leaves at `level`); `None` when cancelled.
+    /// The shape that cell `i` of `cells` reads values through.
+    fn tape<'s>(&'s self, cells: &'s Cells<S>, i: u32) -> &'s S {
+        tape(self.shape, &cells.tapes[i as usize])
+    }
+
+    /// The mesh of `cells` (leaves at `level`, each with its value tape in `tapes`);
+    /// `None` when cancelled.
     pub fn run<A: Arithmetic>(
         &self,
         cells: &[[u32; 3]],
+        tapes: &[CellTape<S>],
         meter: &Meter,
     ) -> Option<(Mesh, ContourStats)> {
         let mut stats = ContourStats::default();
-        let cells = self.close_cells(cells, &mut stats)?;
-        let edges = sign_changing_edges(&cells);
+        let cells = self.close_cells(cells, tapes, &mut stats)?;
+        let (edges, readers) = sign_changing_edges(&cells);
         stats.cells = cells.keys.len() as u64;
         stats.crossings = edges.len() as u64;
         let chunks = (edges.len() + cells.keys.len()) as u64 / CHUNK + 2;
         meter.add_total(chunks);
-        let crossings = self.crossings::<A>(&edges, meter)?;
+        let crossings = self.crossings::<A>(&cells, &edges, &readers, meter)?;
         for c in &crossings {
             stats.edge_evals += c.evals as u64;
             stats.multi_root_edges += (c.roots > 1) as u64;
@@ -108,7 +120,7 @@ impl<S: Shape> Contour<'_, S> {
             return None;
         }
         stats.multi_piece_cells = pieces.iter().filter(|p| p.1 > 1).count() as u64;
-        let triangles = self.quads(&cells, &edges, &pieces, &vertices.pos);
+        let triangles = self.quads(&cells, &edges, &readers, &pieces, &vertices.pos);
         meter.tick(1);
         let (vertices, triangles) = match self.merge_error {
             Some(e) => {
@@ -132,18 +144,30 @@ impl<S: Shape> Contour<'_, S> {
     }
 
     /// The corner mask of each cell, adding the cells that a sign-changing edge needs
-    /// (and, in turn, those that the added cells' edges need).
-    fn close_cells(&self, cells: &[[u32; 3]], stats: &mut ContourStats) -> Option<Cells> {
-        let mut keys: Vec<u64> = cells.iter().map(|&c| key(c)).collect();
-        keys.par_sort_unstable();
-        keys.dedup();
+    /// (and, in turn, those that the added cells' edges need; they read values through
+    /// the whole shape).
+    fn close_cells(
+        &self,
+        cells: &[[u32; 3]],
+        tapes: &[CellTape<S>],
+        stats: &mut ContourStats,
+    ) -> Option<Cells<S>> {
+        let mut order: Vec<(u64, u32)> = cells
+            .iter()
+            .enumerate()
+            .map(|(i, &c)| (key(c), i as u32))
+            .collect();
+        first_reader(&mut order);
+        let mut keys: Vec<u64> = order.iter().map(|o| o.0).collect();
+        let mut tapes: Vec<CellTape<S>> =
+            order.iter().map(|o| tapes[o.1 as usize].clone()).collect();
         let n = 1u32 << self.level;
         loop {
             if self.cancelled() {
                 return None;
             }
-            let masks = self.masks(&keys, &mut stats.corners);
-            let cells = Cells { keys, masks };
+            let masks = self.masks(&keys, &tapes, &mut stats.corners);
+            let cells = Cells { keys, masks, tapes };
             let mut missing: Vec<u64> = cells
                 .keys
                 .par_iter()
@@ -159,55 +183,69 @@ impl<S: Shape> Contour<'_, S> {
             missing.par_sort_unstable();
             missing.dedup();
             stats.added_cells += missing.len() as u64;
-            keys = cells.keys;
-            keys.extend(missing);
-            keys.par_sort_unstable();
+            let mut all: Vec<(u64, CellTape<S>)> =
+                cells.keys.into_iter().zip(cells.tapes).collect();
+            all.extend(missing.into_iter().map(|k| (k, None)));
+            all.par_sort_unstable_by_key(|a| a.0);
+            (keys, tapes) = all.into_iter().unzip();
         }
     }
 
-    /// The corner masks of the cells `keys`, each corner evaluated once.
-    fn masks(&self, keys: &[u64], corners: &mut u64) -> Vec<u8> {
-        let mut all: Vec<u64> = keys
+    /// The corner masks of the cells `keys` (with their `tapes`), each corner
+    /// evaluated once, through the tape of the first cell that holds it.
+    fn masks(&self, keys: &[u64], tapes: &[CellTape<S>], corners: &mut u64) -> Vec<u8> {
+        let mut all: Vec<(u64, u32)> = keys
             .par_iter()
-            .flat_map_iter(|&k| (0..8).map(move |i| key(corner_of(unkey(k), i))))
+            .enumerate()
+            .flat_map_iter(|(j, &k)| (0..8).map(move |i| (key(corner_of(unkey(k), i)), j as u32)))
             .collect();
         all.par_sort_unstable();
-        all.dedup();
+        all.dedup_by_key(|a| a.0);
         *corners += all.len() as u64;
-        let signs: Vec<bool> = all.par_iter().map(|&k| self.inside_at(unkey(k))).collect();
+        let signs: Vec<bool> = all
+            .par_iter()
+            .map(|&(k, j)| self.inside_at(tape(self.shape, &tapes[j as usize]), unkey(k)))
+            .collect();
         keys.par_iter()
             .map(|&k| {
                 (0..8).fold(0u8, |m, i| {
-                    let j = all.binary_search(&key(corner_of(unkey(k), i))).unwrap_or(0);
+                    let c = key(corner_of(unkey(k), i));
+                    let j = all.binary_search_by_key(&c, |a| a.0).unwrap_or(0);
                     m | (signs[j] as u8) << i
                 })
             })
             .collect()
     }
 
-    fn inside_at(&self, c: [u32; 3]) -> bool {
-        inside(self.shape, &self.domain, self.grid.point(self.level, c))
+    /// Whether corner `c` is inside, read through `shape` (a tape valid there).
+    fn inside_at(&self, shape: &S, c: [u32; 3]) -> bool {
+        inside(shape, &self.domain, self.grid.point(self.level, c))
     }
 
-    /// The crossing of each edge, in the order of `edges`.
+    /// The crossing of each edge, in the order of `edges`, each through the tape of
+    /// its cell in `readers`.
     fn crossings<A: Arithmetic>(
         &self,
+        cells: &Cells<S>,
         edges: &[(u64, u8)],
+        readers: &[u32],
         meter: &Meter,
     ) -> Option<Vec<Crossing>> {
         let h = self.grid.cell_size(self.level);
         let out: Vec<Option<Vec<Crossing>>> = edges
             .par_chunks(CHUNK as usize)
-            .map(|chunk| {
+            .zip(readers.par_chunks(CHUNK as usize))
+            .map(|(chunk, readers)| {
                 if self.cancelled() {
                     return None;
                 }
                 let v = chunk
                     .iter()
-                    .map(|&(lo, axis)| {
+                    .zip(readers)
+                    .map(|(&(lo, axis), &r)| {
                         let a = self.grid.point(self.level, unkey(lo));
                         crossing::<A, S>(
-                            self.shape,
+                            self.tape(cells, r),
                             &self.domain,
                             a,
                             axis as usize,
@@ -229,7 +267,7 @@ impl<S: Shape> Contour<'_, S> {
     /// for none, and the number of pieces) and every vertex.
     fn vertices(
         &self,
-        cells: &Cells,
+        cells: &Cells<S>,
         edges: &[(u64, u8)],
         crossings: &[Crossing],
         meter: &Meter,
@@ -240,14 +278,20 @@ impl<S: Shape> Contour<'_, S> {
             .keys
             .par_chunks(CHUNK as usize)
             .zip(cells.masks.par_chunks(CHUNK as usize))
-            .map(|(ks, ms)| {
+            .enumerate()
+            .map(|(n, (ks, ms))| {
                 if self.cancelled() {
                     return None;
                 }
+                let first = n * CHUNK as usize;
                 let v = ks
                     .iter()
                     .zip(ms)
-                    .map(|(&k, &m)| self.cell_vertices(unkey(k), m, flipped, edges, crossings))
+                    .enumerate()
+                    .map(|(i, (&k, &m))| {
+                        let s = self.tape(cells, (first + i) as u32);
+                        self.cell_vertices(s, unkey(k), m, flipped, edges, crossings)
+                    })
                     .collect();
                 meter.tick(1);
                 Some(v)
@@ -275,7 +319,7 @@ impl<S: Shape> Contour<'_, S> {
     /// join its two segments into one piece, the pair of their vertices would be the
     /// side of four triangles (a non-manifold edge); pairing the face's crossings the
     /// other way separates them. A few rounds, as a flip changes two cells' pieces.
-    fn flip_faces(&self, cells: &Cells) -> Flipped {
+    fn flip_faces(&self, cells: &Cells<S>) -> Flipped {
         let mut flipped = Flipped::default();
         for _ in 0..FLIP_ROUNDS {
             let found = self.conflicts(cells, &flipped);
@@ -293,14 +337,15 @@ impl<S: Shape> Contour<'_, S> {
 
     /// The ambiguous faces (each seen from its lower cell) whose two cells both join
     /// the face's two segments into one piece.
-    fn conflicts(&self, cells: &Cells, flipped: &Flipped) -> Vec<(u64, u8)> {
+    fn conflicts(&self, cells: &Cells<S>, flipped: &Flipped) -> Vec<(u64, u8)> {
         cells
             .keys
             .par_iter()
             .zip(&cells.masks)
-            .flat_map_iter(|(&k, &m)| {
+            .enumerate()
+            .flat_map_iter(|(i, (&k, &m))| {
                 let c = unkey(k);
-                let (piece, _) = self.cell_pieces(c, m, flipped);
+                let (piece, _) = self.cell_pieces(self.tape(cells, i as u32), c, m, flipped);
                 let mut out = Vec::new();
                 for axis in 0..3 {
                     if !ambiguous(m, axis, 1) || !joined(&piece, axis, 1) {
@@ -309,7 +354,8 @@ impl<S: Shape> Contour<'_, S> {
                     let mut n = c;
                     n[axis] += 1;
                     let Some(j) = cells.index(n) else { continue };
-                    let (np, _) = self.cell_pieces(n, cells.masks[j], flipped);
+                    let s = self.tape(cells, j as u32);
+                    let (np, _) = self.cell_pieces(s, n, cells.masks[j], flipped);
                     if joined(&np, axis, 0) {
                         out.push(face_key(c, axis, 1));
                     }
@@ -319,23 +365,26 @@ impl<S: Shape> Contour<'_, S> {
             .collect()
     }
 
-    /// The pieces of cell `c` with the face decisions of `flipped`.
-    fn cell_pieces(&self, c: [u32; 3], mask: u8, flipped: &Flipped) -> ([u8; 12], u8) {
+    /// The pieces of cell `c` (with its tape `shape`) with the face decisions of
+    /// `flipped`.
+    fn cell_pieces(&self, shape: &S, c: [u32; 3], mask: u8, flipped: &Flipped) -> ([u8; 12], u8) {
         pieces(mask, |axis, side| {
-            self.face_centre_inside(c, axis, side) ^ flipped.contains(&face_key(c, axis, side))
+            self.face_centre_inside(shape, c, axis, side)
+                ^ flipped.contains(&face_key(c, axis, side))
         })
     }
 
-    /// The pieces of cell `c` and their vertices.
+    /// The pieces of cell `c` (with its tape `shape`) and their vertices.
     fn cell_vertices(
         &self,
+        shape: &S,
         c: [u32; 3],
         mask: u8,
         flipped: &Flipped,
         edges: &[(u64, u8)],
         crossings: &[Crossing],
     ) -> CellPieces {
-        let (piece, count) = self.cell_pieces(c, mask, flipped);
+        let (piece, count) = self.cell_pieces(shape, c, mask, flipped);
         let mut qefs = vec![Qef::default(); count as usize];
         let cell = self.grid.cell_box(self.level, c);
         for e in 0..12 {
@@ -379,29 +428,32 @@ impl<S: Shape> Contour<'_, S> {
         (lo, hi)
     }
 
-    /// Whether the centre of face `(axis, side)` of cell `c` is inside.
-    fn face_centre_inside(&self, c: [u32; 3], axis: usize, side: usize) -> bool {
+    /// Whether the centre of face `(axis, side)` of cell `c` (with its tape `shape`)
+    /// is inside.
+    fn face_centre_inside(&self, shape: &S, c: [u32; 3], axis: usize, side: usize) -> bool {
         let b = self.grid.cell_box(self.level, c);
         let mut p = (b.min + b.max) * 0.5;
         p[axis] = if side == 0 { b.min[axis] } else { b.max[axis] };
-        inside(self.shape, &self.domain, p)
+        inside(shape, &self.domain, p)
     }
 
     /// Two triangles per sign-changing edge.
     fn quads(
         &self,
-        cells: &Cells,
+        cells: &Cells<S>,
         edges: &[(u64, u8)],
+        readers: &[u32],
         pieces: &[([u32; 12], u8)],
         vertices: &[DVec3],
     ) -> Vec<[u32; 3]> {
         let n = 1u32 << self.level;
         edges
             .par_iter()
-            .flat_map_iter(|&(lo, axis)| {
+            .zip(readers)
+            .flat_map_iter(|(&(lo, axis), &r)| {
                 let axis = axis as usize;
                 let lo_c = unkey(lo);
-                let lower_inside = self.inside_at(lo_c);
+                let lower_inside = self.inside_at(self.tape(cells, r), lo_c);
                 let quad: Vec<u32> = around(lo_c, axis, n)
                     .map(|cell| {
                         let i = cells.index(cell).expect("closed cells");
@@ -509,17 +561,19 @@ fn edges_of(k: u64, mask: u8) -> impl Iterator<Item = (u64, u8)> {
     })
 }
 
-/// Every sign-changing edge of the cells, sorted.
-fn sign_changing_edges(cells: &Cells) -> Vec<(u64, u8)> {
-    let mut v: Vec<(u64, u8)> = cells
+/// Every sign-changing edge of the cells, sorted, and the first cell holding each (whose
+/// tape reads its values).
+fn sign_changing_edges<S: Sync>(cells: &Cells<S>) -> (Vec<(u64, u8)>, Vec<u32>) {
+    let mut v: Vec<((u64, u8), u32)> = cells
         .keys
         .par_iter()
         .zip(&cells.masks)
-        .flat_map_iter(|(&k, &m)| edges_of(k, m))
+        .enumerate()
+        .flat_map_iter(|(i, (&k, &m))| edges_of(k, m).map(move |e| (e, i as u32)))
         .collect();
     v.par_sort_unstable();
-    v.dedup();
-    v
+    v.dedup_by_key(|e| e.0);
+    v.into_iter().unzip()
 }
 
 /// The cells around the edge from corner `lo` along `axis`, counter-clockwise seen

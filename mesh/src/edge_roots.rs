@@ -6,7 +6,9 @@
 //! derivative along the edge. A segment whose range of `f` excludes 0 holds no root; a
 //! segment whose range of the derivative excludes 0 is monotone and holds exactly one
 //! root when its ends differ in sign, none otherwise: the root is *isolated* and then
-//! refined by bisection on point values. Other segments are split, down to a minimum
+//! refined on point values (regula falsi with the Illinois rule, safeguarded by
+//! bisection, so the bracket of a sign change shrinks at least by half every other
+//! step; superlinearly where `f` is smooth). Other segments are split, down to a minimum
 //! width. So every root where `f` changes sign is found, however close they lie to each
 //! other (a sampling search misses pairs closer than its step), and the number of
 //! sign-changing roots on the edge is known: more than one means the grid is too coarse
@@ -23,8 +25,10 @@ use model_ir::shape::{Aabb, Shape};
 const MIN_SHARE: f64 = 1.0 / (1u64 << 24) as f64;
 /// At most this many range evaluations per edge (then the bracketing root is kept).
 const MAX_EVALS: u32 = 400;
-/// Point bisection steps after isolation (far below `f64` resolution of the edge).
-const BISECT_STEPS: u32 = 60;
+/// Refinement stops once the bracket is narrower than this share of the edge.
+const REFINE_SHARE: f64 = 1.0 / (1u64 << 44) as f64;
+/// At most this many point evaluations refine one root (bisection alone needs 44).
+const REFINE_STEPS: u32 = 88;
 
 /// Tie tolerance of [`branches`], in edge lengths: sheets within about this distance
 /// of the crossing may meet it in one of the edge's cells.
@@ -68,7 +72,7 @@ pub fn crossing<A: Arithmetic, S: Shape>(
     let t = roots
         .first()
         .copied()
-        .unwrap_or_else(|| edge.bisect(0.0, len));
+        .unwrap_or_else(|| edge.refine(0.0, len, len));
     let p = edge.at(t);
     let others = if with_branches {
         let mut b = branches(&f, p, TIE_CELLS * len);
@@ -100,9 +104,14 @@ impl<S: Shape> Edge<'_, S> {
         p
     }
 
-    fn inside(&self, t: f64) -> bool {
+    fn value(&self, t: f64) -> f64 {
         let p = self.at(t);
-        self.f.eval(p.x, p.y, p.z) >= 0.0
+        self.f.eval(p.x, p.y, p.z)
+    }
+
+    fn inside(&self, t: f64) -> bool {
+        // NaN counts as outside, as any value below 0.
+        self.value(t) >= 0.0
     }
 
     /// `f` and its derivative along the edge over `[t0, t1]`.
@@ -127,7 +136,7 @@ impl<S: Shape> Edge<'_, S> {
         while let Some((t0, t1, s0, s1)) = todo.pop() {
             if evals >= MAX_EVALS {
                 if s0 != s1 {
-                    roots.push(self.bisect(t0, t1));
+                    roots.push(self.refine(t0, t1, len));
                 }
                 continue;
             }
@@ -139,7 +148,7 @@ impl<S: Shape> Edge<'_, S> {
             if !r.g[self.axis].contains_zero() || t1 - t0 <= min_w {
                 // Monotone: one root where the ends differ, none where they agree.
                 if s0 != s1 {
-                    roots.push(self.bisect(t0, t1));
+                    roots.push(self.refine(t0, t1, len));
                 }
                 continue;
             }
@@ -152,19 +161,47 @@ impl<S: Shape> Edge<'_, S> {
         (roots, evals)
     }
 
-    /// A point of sign change in `[t0, t1]` (whose ends differ in sign) by bisection.
-    fn bisect(&self, mut t0: f64, mut t1: f64) -> f64 {
-        let s0 = self.inside(t0);
-        for _ in 0..BISECT_STEPS {
-            let tm = 0.5 * (t0 + t1);
-            if tm <= t0 || tm >= t1 {
+    /// A point of sign change in `[t0, t1]` (whose ends differ in sign), within
+    /// [`REFINE_SHARE`] of the edge's length `len`: the bracket is kept around a sign
+    /// change (inside at one end, outside at the other) and cut at the regula falsi
+    /// point of the values at its ends, the value kept at an end twice in a row halved
+    /// (the Illinois rule); a cut that does not halve the bracket is followed by a
+    /// bisection, as is a step the values cannot give (NaN, infinite, equal values).
+    fn refine(&self, mut t0: f64, mut t1: f64, len: f64) -> f64 {
+        let tol = len * REFINE_SHARE;
+        let (mut f0, mut f1) = (self.value(t0), self.value(t1));
+        let s0 = f0 >= 0.0;
+        let (mut bisect, mut kept) = (false, 0i8);
+        for _ in 0..REFINE_STEPS {
+            let w = t1 - t0;
+            if w <= tol {
                 break;
             }
-            if self.inside(tm) == s0 {
+            let mut tm = t0 - f0 * w / (f1 - f0);
+            if bisect || !(tm > t0 && tm < t1) {
+                tm = 0.5 * (t0 + t1);
+                if tm <= t0 || tm >= t1 {
+                    break;
+                }
+            }
+            let fm = self.value(tm);
+            if (fm >= 0.0) == s0 {
                 t0 = tm;
+                f0 = fm;
+                // t1 kept again: halve its value.
+                if kept == 1 {
+                    f1 *= 0.5;
+                }
+                kept = 1;
             } else {
                 t1 = tm;
+                f1 = fm;
+                if kept == -1 {
+                    f0 *= 0.5;
+                }
+                kept = -1;
             }
+            bisect = !bisect && t1 - t0 > 0.5 * w;
         }
         0.5 * (t0 + t1)
     }

@@ -176,11 +176,46 @@ pub fn inside<S: Shape>(shape: &S, domain: &Aabb, p: glam::DVec3) -> bool {
     clipped.eval(p.x, p.y, p.z) >= 0.0
 }
 
+/// Whether `shape` clipped to `domain` is inside at each of `points`, into `out`
+/// (cleared first): [`inside`] at each, from one batch evaluation ([`Shape::eval_batch`],
+/// bit for bit the values one at a time give).
+pub fn inside_batch<S: Shape>(shape: &S, domain: &Aabb, points: &[DVec3], out: &mut Vec<bool>) {
+    let clipped = Clipped {
+        inner: shape,
+        domain: *domain,
+    };
+    SCRATCH.with_borrow_mut(|(x, y, z, f)| {
+        x.clear();
+        y.clear();
+        z.clear();
+        for p in points {
+            x.push(p.x);
+            y.push(p.y);
+            z.push(p.z);
+        }
+        clipped.eval_batch(x, y, z, f);
+        out.clear();
+        // NaN counts as outside, as any value below 0.
+        out.extend(f.iter().map(|&v| v >= 0.0));
+    });
+}
+
+type Lanes = (Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>);
+
+thread_local! {
+    /// The inputs and values of [`inside_batch`], reused per thread.
+    static SCRATCH: std::cell::RefCell<Lanes> = std::cell::RefCell::default();
+}
+
 /// The corner mask of cell `c` at `level` (bit `i`: corner `i` inside).
 pub fn corner_mask<S: Shape>(shape: &S, domain: &Aabb, g: &Grid, level: u32, c: [u32; 3]) -> u8 {
-    (0..8).fold(0u8, |m, i| {
-        m | (inside(shape, domain, g.point(level, corner_of(c, i))) as u8) << i
-    })
+    let points: [DVec3; 8] = core::array::from_fn(|i| g.point(level, corner_of(c, i)));
+    let mut signs = Vec::with_capacity(8);
+    inside_batch(shape, domain, &points, &mut signs);
+    signs
+        .iter()
+        .enumerate()
+        .fold(0u8, |m, (i, &s)| m | (s as u8) << i)
 }
 
 /// Whether a corner mask has a sign change.

@@ -65,6 +65,7 @@
 #![warn(missing_docs)]
 
 pub mod branches;
+pub mod cell_tape;
 pub mod certificate;
 pub mod consistency;
 pub mod dual_contour;
@@ -85,7 +86,6 @@ use arith_core::Arithmetic;
 use model_ir::arith::ArithKind;
 use model_ir::shape::{check_domain, Aabb, Shape};
 use progress::Meter;
-use rayon::prelude::*;
 use std::fmt;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -295,8 +295,9 @@ pub struct MeshStats {
     pub unresolved_at_max_depth: u64,
     /// The box around the unresolved cells (`None` when there are none).
     pub unresolved_box: Option<Aabb>,
-    /// Cells that interval arithmetic or the mean value form excluded where the
-    /// arithmetic's range did not ([`exclusion`]).
+    /// Cells that interval arithmetic or the mean value form excluded ([`exclusion`]):
+    /// leaves whose arithmetic's range held 0, and sub-cells of probes (interval
+    /// arithmetic, the cheapest, is tried before the arithmetic's range there).
     pub cells_excluded: u64,
     /// Leaves with a sign change (the cells contoured).
     pub surface_cells: u64,
@@ -497,7 +498,7 @@ fn run<A: Arithmetic, S: Shape>(
         max_depth: opts.max_depth,
         ..MeshStats::default()
     };
-    let (level, cells) = search::<A, S>(shape, opts, meter, &mut stats)?;
+    let (level, cells, tapes, certified) = search::<A, S>(shape, opts, meter, &mut stats)?;
     let grid = grid::Grid::new(&opts.domain, level);
     let contour = dual_contour::Contour {
         shape,
@@ -510,7 +511,7 @@ fn run<A: Arithmetic, S: Shape>(
     };
     meter.phase("contouring", CONTOUR_SHARE, 0);
     let (mesh, c) = contour
-        .run::<A>(&cells, meter)
+        .run::<A>(&cells, &tapes, meter)
         .ok_or(MeshError::Cancelled)?;
     stats.level = level;
     stats.surface_cells = c.cells;
@@ -521,9 +522,8 @@ fn run<A: Arithmetic, S: Shape>(
     stats.edge_evals = c.edge_evals;
     stats.point_evals += c.corners;
     if opts.certify {
-        meter.phase("certificate", 0.5, 1);
-        stats.certified_cells = Some(certify::<A, S>(shape, &opts.domain, &grid, level, &cells));
-        meter.tick(1);
+        // The search certified every surface cell on its way.
+        stats.certified_cells = Some(certified.iter().filter(|&&c| c).count() as u64);
     }
     if cancelled(cancel) {
         return Err(MeshError::Cancelled);
@@ -552,6 +552,9 @@ fn cancelled(c: Option<&AtomicBool>) -> bool {
     c.is_some_and(|c| c.load(Ordering::Relaxed))
 }
 
+/// The leaf level, its surface cells, their value tapes and certificates.
+type Leaves<S> = (u32, Vec<[u32; 3]>, Vec<cell_tape::CellTape<S>>, Vec<bool>);
+
 /// The octree search, raised to the level that thin features need within the memory
 /// limit and the work budget ([`RISE_WORK`]): the leaf level and its surface cells.
 fn search<A: Arithmetic, S: Shape>(
@@ -559,7 +562,7 @@ fn search<A: Arithmetic, S: Shape>(
     opts: &MeshOptions,
     meter: &Meter,
     stats: &mut MeshStats,
-) -> Result<(u32, Vec<[u32; 3]>), MeshError> {
+) -> Result<Leaves<S>, MeshError> {
     let mut level = opts.depth;
     loop {
         let tree = octree::Octree {
@@ -617,20 +620,6 @@ fn search<A: Arithmetic, S: Shape>(
         stats.unresolved_box = held
             .into_iter()
             .fold(d.unresolved_box, |u, b| octree::union(u, Some(b)));
-        return Ok((level, d.cells));
+        return Ok((level, d.cells, d.tapes, d.certified));
     }
-}
-
-/// The number of `cells` at `level` that the Plantinga–Vegter test certifies.
-fn certify<A: Arithmetic, S: Shape>(
-    shape: &S,
-    domain: &Aabb,
-    grid: &grid::Grid,
-    level: u32,
-    cells: &[[u32; 3]],
-) -> u64 {
-    cells
-        .par_iter()
-        .filter(|&&c| certificate::certified::<A, S>(shape, domain, &grid.cell_box(level, c)))
-        .count() as u64
 }

@@ -25,15 +25,21 @@
 //!
 //! A leaf with a sign change that is not certified is checked on a finer lattice of
 //! points ([`super::consistency`]): where the lattice shows another topology than the
-//! corners (a thin shell through a corner), the leaf level must rise too.
+//! corners (a thin shell through a corner), the leaf level must rise too. Each such
+//! leaf is checked once, at most `9^3` points in one batch evaluation of its own tape,
+//! so these checks are bounded by the mesh's size on their own and take nothing from
+//! the probes' budget (nor leave cells unresolved).
 //!
-//! Below [`SPECIALISE_EVERY`] levels the shape is specialised to the cell
-//! ([`Shape::specialise`]) and the shorter shape serves the cell's subtree's range
-//! tests (never its point values: those use the whole shape).
+//! Every [`SPECIALISE_EVERY`] levels the shape is specialised to the cell
+//! ([`Shape::specialise`], sign-only) and the shorter shape serves the cell's subtree's
+//! range tests. Point values (corner signs, finer lattices) use each cell's value-exact
+//! tape ([`super::cell_tape`]), specialised at every level from its parent's, which
+//! each leaf kept for contouring hands on ([`Descent::tapes`]).
 
+use super::cell_tape::{specialise_to, tape, CellTape};
 use super::certificate::certified;
 use super::consistency::finer_topology;
-use super::exclusion::{gradient_verdict, interval_excludes, Verdict};
+use super::exclusion::{gradient_verdict, interval_excludes, Test, Verdict};
 use super::grid::{cell_inputs, corner_mask, corner_of, crosses, Clipped, Grid};
 use arith_core::{Arithmetic, Range};
 use model_ir::shape::{Aabb, Shape};
@@ -42,28 +48,30 @@ use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Specialise the shape to a cell every this many levels.
-pub const SPECIALISE_EVERY: u32 = 3;
+pub const SPECIALISE_EVERY: u32 = 1;
 
 /// Sub-cells a probe evaluates at most per leaf.
 pub const PROBE_BUDGET: u32 = 256;
 
 /// Sub-cells each task may probe whatever it finds.
-pub const PROBE_FLOOR: u64 = 256;
+pub const PROBE_FLOOR: u64 = 64;
 
 /// Sub-cells a task may probe per surface cell it has found.
-pub const PROBE_PER_CELL: u64 = 16;
-
-/// Sub-cells that one point of a finer lattice counts for in the budget.
-const POINTS_PER_UNIT: u64 = 8;
+pub const PROBE_PER_CELL: u64 = 4;
 
 /// Cells are handed to threads as the subtrees below this level.
 const TASK_LEVEL: u32 = 3;
 
 /// What the search found.
-#[derive(Clone, Debug, Default)]
-pub struct Descent {
+#[derive(Clone, Debug)]
+pub struct Descent<S> {
     /// Leaves at the leaf level with a sign change among their corners.
     pub cells: Vec<[u32; 3]>,
+    /// Each leaf's value-exact tape ([`super::cell_tape`]), in the order of `cells`.
+    pub tapes: Vec<CellTape<S>>,
+    /// Whether the Plantinga–Vegter test certifies each leaf (on its sign tape, whose
+    /// zero set is the shape's there), in the order of `cells`.
+    pub certified: Vec<bool>,
     /// The deepest level at which a probe below the leaf level found a sign change
     /// (the leaf level itself when none did).
     pub needs: u32,
@@ -78,7 +86,7 @@ pub struct Descent {
     /// Cells that interval arithmetic or the mean value form excluded while the
     /// arithmetic's range did not.
     pub excluded: u64,
-    /// Budget units spent (sub-cells probed, lattice points / 8).
+    /// Budget units spent (sub-cells probed).
     pub spent: u64,
     /// Cells whose range was evaluated.
     pub visited: u64,
@@ -98,7 +106,31 @@ pub struct Descent {
     pub cancelled: bool,
 }
 
-impl Descent {
+impl<S> Default for Descent<S> {
+    fn default() -> Self {
+        Descent {
+            cells: Vec::new(),
+            tapes: Vec::new(),
+            certified: Vec::new(),
+            needs: 0,
+            unresolved: 0,
+            unresolved_box: None,
+            deeper: Vec::new(),
+            excluded: 0,
+            spent: 0,
+            visited: 0,
+            pruned: 0,
+            probed: 0,
+            point_evals: 0,
+            specialised: 0,
+            certificates: 0,
+            finer: 0,
+            cancelled: false,
+        }
+    }
+}
+
+impl<S> Descent<S> {
     /// Counts the cell `b` as unresolved.
     fn unresolved(&mut self, b: &Aabb) {
         self.unresolved += 1;
@@ -111,8 +143,10 @@ impl Descent {
         (PROBE_FLOOR + PROBE_PER_CELL * self.cells.len() as u64).saturating_sub(self.spent)
     }
 
-    fn merge(&mut self, o: Descent) {
+    fn merge(&mut self, o: Descent<S>) {
         self.cells.extend(o.cells);
+        self.tapes.extend(o.tapes);
+        self.certified.extend(o.certified);
         self.needs = self.needs.max(o.needs);
         self.unresolved += o.unresolved;
         self.unresolved_box = union(self.unresolved_box, o.unresolved_box);
@@ -150,18 +184,18 @@ impl<S: Shape> Octree<'_, S> {
     /// Searches the cube: the leaves with sign changes and what the probes found.
     /// `done(1)` is called once per finished subtree below level `min(level, 3)` (there
     /// are [`Octree::tasks`] of them).
-    pub fn search<A: Arithmetic>(&self, done: &(dyn Fn(u64) + Sync)) -> Descent {
+    pub fn search<A: Arithmetic>(&self, done: &(dyn Fn(u64) + Sync)) -> Descent<S> {
         let top = self.level.min(TASK_LEVEL);
         let n = 1u32 << top;
         let tasks: Vec<[u32; 3]> = (0..n * n * n)
             .map(|i| [i % n, i / n % n, i / (n * n)])
             .collect();
-        let parts: Vec<Descent> = tasks
+        let parts: Vec<Descent<S>> = tasks
             .par_iter()
             .map(|&c| {
                 let mut d = Descent::default();
                 if !self.cancelled() {
-                    self.node::<A>(self.shape, top, c, &mut d);
+                    self.node::<A>(top, c, &mut d);
                 } else {
                     d.cancelled = true;
                 }
@@ -199,57 +233,52 @@ impl<S: Shape> Octree<'_, S> {
         clipped.eval(x, y, z).contains_zero()
     }
 
-    /// The corners' signs of cell `c` at `level`: a mask with bit `i` set where corner
-    /// `i` is inside (`f >= 0`).
-    fn corner_mask(&self, level: u32, c: [u32; 3], d: &mut Descent) -> u8 {
+    /// The corners' signs of cell `c` at `level` from the value tape `value` (one
+    /// valid over the cell): a mask with bit `i` set where corner `i` is inside
+    /// (`f >= 0`).
+    fn corner_mask(&self, value: &S, level: u32, c: [u32; 3], d: &mut Descent<S>) -> u8 {
         d.point_evals += 8;
-        corner_mask(self.shape, &self.domain, &self.grid, level, c)
+        corner_mask(value, &self.domain, &self.grid, level, c)
     }
 
     /// Visits cell `c` at `level` (the top of a task's subtree).
-    fn node<A: Arithmetic>(&self, shape: &S, level: u32, c: [u32; 3], d: &mut Descent) {
+    fn node<A: Arithmetic>(&self, level: u32, c: [u32; 3], d: &mut Descent<S>) {
         if d.cancelled || self.cancelled() {
             d.cancelled = true;
             return;
         }
         d.visited += 1;
-        if !self.may_cross::<A>(shape, &self.grid.cell_box(level, c)) {
+        let b = self.grid.cell_box(level, c);
+        if !self.may_cross::<A>(self.shape, &b) {
             d.pruned += 1;
             return;
         }
-        self.crossing::<A>(shape, level, c, d);
+        let value = specialise_to(self.shape, &None, &b);
+        self.crossing::<A>(self.shape, &value, level, c, d);
     }
 
-    /// A cell whose range holds 0: a leaf is kept or probed, any other cell's eight
+    /// A cell whose range holds 0, with its sign tape `shape` (for range tests) and
+    /// its value tape `value`: a leaf is kept or probed, any other cell's eight
     /// children are evaluated in one batch ([`Batch`]) and those whose range holds 0
-    /// visited in turn.
-    fn crossing<A: Arithmetic>(&self, shape: &S, level: u32, c: [u32; 3], d: &mut Descent) {
-        if level == self.level {
-            let m = self.corner_mask(level, c, d);
-            if crosses(m) {
-                d.cells.push(c);
-                self.check_pieces::<A>(shape, level, c, d);
-            } else if interval_excludes(shape, &self.domain, &self.grid.cell_box(level, c)) {
-                d.excluded += 1;
-            } else {
-                let before = d.needs;
-                d.needs = level;
-                let mut budget = d.allowance().min(PROBE_BUDGET as u64) as u32;
-                let start = budget;
-                if self.probe::<A>(shape, level, c, d, &mut budget) {
-                    d.deeper.push((d.needs, c));
-                }
-                d.spent += (start - budget) as u64;
-                d.needs = d.needs.max(before);
-            }
-            return;
-        }
+    /// visited in turn, each with its own value tape.
+    fn crossing<A: Arithmetic>(
+        &self,
+        shape: &S,
+        value: &CellTape<S>,
+        level: u32,
+        c: [u32; 3],
+        d: &mut Descent<S>,
+    ) {
         let b = self.grid.cell_box(level, c);
         let special = (level.checked_rem(SPECIALISE_EVERY) == Some(0) && shape.specialises())
             .then(|| shape.specialise(&[cell_inputs::<A::Cell>(&b)]))
             .flatten();
         d.specialised += special.is_some() as u64;
         let sub = special.as_ref().unwrap_or(shape);
+        if level == self.level {
+            self.leaf::<A>(sub, value, c, d);
+            return;
+        }
         let kids: [[u32; 3]; 8] = core::array::from_fn(|i| child(c, i));
         let clipped = Clipped {
             inner: sub,
@@ -272,7 +301,46 @@ impl<S: Shape> Octree<'_, S> {
                 d.pruned += 1;
                 continue;
             }
-            self.crossing::<A>(sub, level + 1, k, d);
+            // A leaf specialises only once its corners show a sign change.
+            let kv = if level + 1 == self.level {
+                value.clone()
+            } else {
+                specialise_to(self.shape, value, &self.grid.cell_box(level + 1, k))
+            };
+            self.crossing::<A>(sub, &kv, level + 1, k, d);
+        }
+    }
+
+    /// A leaf whose range holds 0 (`value`: a value tape valid over it): kept, with its
+    /// own value tape, where its corners differ in sign, else excluded or probed.
+    fn leaf<A: Arithmetic>(&self, shape: &S, value: &CellTape<S>, c: [u32; 3], d: &mut Descent<S>) {
+        let level = self.level;
+        let v = tape(self.shape, value);
+        let m = self.corner_mask(v, level, c, d);
+        if crosses(m) {
+            // The certificate and the lattice read the sign tape: they ask about the
+            // zero set only, which it shares with the shape, and it is the shortest.
+            let b = self.grid.cell_box(level, c);
+            d.certificates += 1;
+            let sure = certified::<A, S>(shape, &self.domain, &b);
+            if !sure {
+                self.check_pieces(shape, level, c, d);
+            }
+            d.cells.push(c);
+            d.tapes.push(specialise_to(self.shape, value, &b));
+            d.certified.push(sure);
+        } else if interval_excludes(shape, &self.domain, &self.grid.cell_box(level, c)) {
+            d.excluded += 1;
+        } else {
+            let before = d.needs;
+            d.needs = level;
+            let mut budget = d.allowance().min(PROBE_BUDGET as u64) as u32;
+            let start = budget;
+            if self.probe::<A>(shape, v, level, c, d, &mut budget) {
+                d.deeper.push((d.needs, c));
+            }
+            d.spent += (start - budget) as u64;
+            d.needs = d.needs.max(before);
         }
     }
 
@@ -290,19 +358,21 @@ impl<S: Shape> Octree<'_, S> {
     /// first sign change ends the probe (the leaf level is raised and the search runs
     /// again). Returns whether it found one. Sub-cells left when the budget runs out
     /// count as unresolved.
+    /// `shape` serves the range tests, `value` (valid over the cell) the corner signs.
     fn probe<A: Arithmetic>(
         &self,
         shape: &S,
+        value: &S,
         level: u32,
         c: [u32; 3],
-        d: &mut Descent,
+        d: &mut Descent<S>,
         budget: &mut u32,
     ) -> bool {
         let b = self.grid.cell_box(level, c);
         d.certificates += 1;
         match gradient_verdict::<A, S>(shape, &self.domain, &b) {
-            Verdict::Excluded(_) => {
-                d.excluded += 1;
+            Verdict::Excluded(t) => {
+                d.excluded += (t != Test::Range) as u64;
                 return false;
             }
             Verdict::Certified => return false,
@@ -320,16 +390,15 @@ impl<S: Shape> Octree<'_, S> {
             }
             *budget -= 1;
             d.probed += 1;
+            // The cheapest test first; the arithmetic's range comes with the gradient's
+            // ranges in the sub-cell's own probe.
             let kb = self.grid.cell_box(l, k);
-            if !self.may_cross::<A>(shape, &kb) {
-                continue;
-            }
             if interval_excludes(shape, &self.domain, &kb) {
                 d.excluded += 1;
                 continue;
             }
-            let m = self.corner_mask(l, k, d);
-            if crosses(m) || self.probe::<A>(shape, l, k, d, budget) {
+            let m = self.corner_mask(value, l, k, d);
+            if crosses(m) || self.probe::<A>(shape, value, l, k, d, budget) {
                 d.needs = d.needs.max(l);
                 return true;
             }
@@ -338,24 +407,16 @@ impl<S: Shape> Octree<'_, S> {
     }
 
     /// For a leaf with a sign change that the Plantinga–Vegter test does not certify:
-    /// whether a finer lattice shows another topology than its corners
-    /// ([`finer_topology`]); if so the leaf level must reach that sub-level.
-    fn check_pieces<A: Arithmetic>(&self, shape: &S, level: u32, c: [u32; 3], d: &mut Descent) {
+    /// whether a finer lattice (of `shape`, valid over the cell) shows another topology
+    /// than its corners ([`finer_topology`]); if so the leaf level must reach that
+    /// sub-level.
+    fn check_pieces(&self, shape: &S, level: u32, c: [u32; 3], d: &mut Descent<S>) {
         if level >= self.max_depth {
             return;
         }
-        d.certificates += 1;
-        if certified::<A, S>(shape, &self.domain, &self.grid.cell_box(level, c)) {
-            return;
-        }
-        if d.allowance() == 0 {
-            d.unresolved(&self.grid.cell_box(level, c));
-            return;
-        }
         let levels = self.max_depth - level;
-        let (k, evals) = finer_topology(self.shape, &self.domain, &self.grid, level, c, levels);
+        let (k, evals) = finer_topology(shape, &self.domain, &self.grid, level, c, levels);
         d.point_evals += evals;
-        d.spent += evals.div_ceil(POINTS_PER_UNIT);
         if let Some(k) = k {
             d.finer += 1;
             d.needs = d.needs.max(level + k);
@@ -393,7 +454,7 @@ mod tests {
         }
     }
 
-    fn search(shape: &Ball, level: u32, max_depth: u32) -> Descent {
+    fn search(shape: &Ball, level: u32, max_depth: u32) -> Descent<Ball> {
         let domain = Aabb::cube(1.0);
         let o = Octree {
             shape,
