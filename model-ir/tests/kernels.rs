@@ -277,3 +277,50 @@ fn constants_last_read_across_blocks() {
         }
     }
 }
+
+/// A batch longer than one pass of the kernels (512 lanes) runs in several passes:
+/// every lane still gives what the scalar evaluation gives, also where the tape's
+/// result is an input or a constant, and where constants are read in every pass.
+#[test]
+fn batches_of_several_passes() {
+    let tapes = [
+        Tape::record(|x, y, z| {
+            let a = x.max(&Real::constant(0.5)) * y.min(&Real::constant(-0.25));
+            (a + z.sqr()).sqrt() - x * y
+        }),
+        Tape::record(|_x, y, _z| y),
+        Tape::record(|_x, _y, _z| Real::constant(1.5)),
+    ];
+    let n = 1100;
+    let x: Vec<Interval> = (0..n)
+        .map(|k| Interval::new(k as f64 / 400.0 - 1.0, k as f64 / 300.0))
+        .collect();
+    let p: Vec<f64> = (0..n).map(|k| (k as f64 * 0.37).sin()).collect();
+    for t in &tapes {
+        for path in paths() {
+            let mut out = Vec::new();
+            t.eval_batch_on(
+                path,
+                &x,
+                &p.iter().map(|&v| Interval::point(v)).collect::<Vec<_>>(),
+                &x,
+                &mut out,
+            );
+            assert_eq!(out.len(), n);
+            for (l, o) in out.iter().enumerate() {
+                let s = t.eval(x[l], Interval::point(p[l]), x[l]).bounds();
+                assert!(agrees(path, o.bounds(), s), "{path} {l}: {o:?} vs {s:?}");
+            }
+            let mut out = Vec::new();
+            t.eval_batch_on(path, &p, &p, &p, &mut out);
+            assert_eq!(out.len(), n);
+            for (l, o) in out.iter().enumerate() {
+                assert_eq!(
+                    o.to_bits(),
+                    t.eval(p[l], p[l], p[l]).to_bits(),
+                    "{path} {l}"
+                );
+            }
+        }
+    }
+}

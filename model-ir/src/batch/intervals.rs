@@ -196,30 +196,26 @@ impl PartOps for Intervals {
 
     #[inline(always)]
     fn instruction<I: Isa>(s: I, at: Step<'_>) {
-        let (i, o, ops, ch, file) = (at.i, at.o, at.ops, at.ch, at.file);
-        let [(a, sa), (b, sb), (e, se)] = ops;
+        let i = at.i;
         let c = i.c;
         let cv = s.splat(c);
         let finite_nonzero = c.is_finite() && c != 0.0;
         let zero = s.splat(0.0);
-        // One block of the result from `f` of the operands' blocks, with the lanes
-        // of its mask redone through the scalar operation.
+        // Each block of the result from `f` of the operands' blocks, with the lanes of
+        // its mask redone through the scalar operation.
         macro_rules! op {
             (|$x:ident, $y:ident, $z:ident| $body:expr) => {
-                for j in 0..ch {
-                    let at = [a + sa * j, b + sb * j, e + se * j];
-                    let ld = |k: usize| (s.load(&file[k]), s.load(&file[k + 1]));
+                at.each::<2>(|out, ops| {
+                    let ld = |k: usize| (s.load(&ops[k][0]), s.load(&ops[k][1]));
                     #[allow(unused_variables)]
-                    let ($x, $y, $z): (P<I>, P<I>, P<I>) = (ld(at[0]), ld(at[1]), ld(at[2]));
+                    let ($x, $y, $z): (P<I>, P<I>, P<I>) = (ld(0), ld(1), ld(2));
                     let ((lo, hi), bad): (P<I>, I::M) = $body;
-                    let (mut lo, mut hi) = (s.store(lo), s.store(hi));
+                    *out = [s.store(lo), s.store(hi)];
                     let bad = s.bits(bad);
                     if bad != 0 {
-                        redo(i, file, at, (&mut lo, &mut hi), bad);
+                        redo(i, ops, out, bad);
                     }
-                    file[o + 2 * j] = lo;
-                    file[o + 2 * j + 1] = hi;
-                }
+                })
             };
         }
         let ok = s.eq(zero, s.splat(1.0));
@@ -292,19 +288,19 @@ impl PartOps for Intervals {
 }
 
 /// Redoes the lanes of `bad` of one block through the scalar operation, from the
-/// operands' blocks at `at` (not yet overwritten: the result is written after this).
+/// operands' blocks `ops`.
 #[cold]
 #[inline(never)]
-fn redo(i: &Instr, file: &[F64x8], at: [usize; 3], out: (&mut F64x8, &mut F64x8), bad: u8) {
+fn redo(i: &Instr, ops: [&[F64x8; 2]; 3], out: &mut [F64x8; 2], bad: u8) {
     for l in 0..LANES {
         if bad & (1 << l) != 0 {
             let v = |k: usize| Interval {
-                lo: file[at[k]].0[l],
-                hi: file[at[k] + 1].0[l],
+                lo: ops[k][0].0[l],
+                hi: ops[k][1].0[l],
             };
             let r = apply(i, v(0), v(1), v(2));
-            out.0 .0[l] = r.lo;
-            out.1 .0[l] = r.hi;
+            out[0].0[l] = r.lo;
+            out[1].0[l] = r.hi;
         }
     }
 }
