@@ -1,7 +1,9 @@
 //! The batch kernels (points and intervals over eight-lane blocks) on every lane path
 //! this processor has, against the scalar evaluation and the 256-bit reference:
 //! points give the scalar bits; interval bounds are the scalar numbers on the AVX-512
-//! and emulated paths and enclose them on the AVX2 path; on every path each range holds
+//! and emulated paths and enclose them on the AVX2 path (with `exp` or `ln`, whose
+//! lanes' enclosures are not libm's, they overlap them and are at most about twice as
+//! wide); on every path each range holds
 //! the exact value of the function at random points of its box, also over boxes with
 //! infinite, zero and huge bounds (the lanes redone on the scalar path).
 
@@ -13,7 +15,7 @@ use arith_core::testkit::checks::{cases, check_point, run};
 use arith_core::testkit::expr::{expr_strategy, Expr};
 use arith_core::{Range, Real};
 use arith_ia::{Interval, IntervalX4};
-use common::{paths, point, point_in, same_bits};
+use common::{close, has_elementary, paths, point, point_in, same_bits};
 use model_ir::Tape;
 use proptest::prelude::*;
 use proptest::test_runner::TestCaseError;
@@ -80,8 +82,10 @@ fn check_intervals(e: &Expr, bs: &[[Side; 3]]) -> Result<(), TestCaseError> {
         prop_assert_eq!(out.len(), bs.len());
         for (l, o) in out.iter().enumerate() {
             let scalar = t.eval(x[l], y[l], z[l]).bounds();
+            let ok = agrees(path, o.bounds(), scalar)
+                || (has_elementary(e) && close(o.bounds(), scalar));
             prop_assert!(
-                agrees(path, o.bounds(), scalar),
+                ok,
                 "{path}, lane {l} of {}: {:?} batched, {scalar:?} scalar\n{e}",
                 bs.len(),
                 o.bounds()
@@ -221,10 +225,9 @@ fn pack_batches_match_pack_evaluation() {
                 for (k, o) in out.iter().enumerate() {
                     let one = t.eval(px[k], py[k], pz[k]).unpack();
                     for (a, b) in o.unpack().iter().zip(&one) {
-                        prop_assert!(
-                            agrees(path, a.bounds(), b.bounds()),
-                            "{path}: {a:?} vs {b:?}"
-                        );
+                        let ok = agrees(path, a.bounds(), b.bounds())
+                            || (has_elementary(&e) && close(a.bounds(), b.bounds()));
+                        prop_assert!(ok, "{path}: {a:?} vs {b:?}");
                     }
                 }
             }

@@ -172,6 +172,22 @@ impl Isa for Avx2 {
         (m.0.to_bitmask() | (m.1.to_bitmask() << 4)) as u8
     }
     #[inline(always)]
+    fn scale_pow2(self, a: V, k: V) -> V {
+        let (a, k) = (self.store(a).0, self.store(k).0);
+        self.load(&F64x8(core::array::from_fn(|l| {
+            super::emulated::scale_pow2(a[l], k[l])
+        })))
+    }
+    #[inline(always)]
+    fn split_pow2(self, x: V) -> (V, V) {
+        let x = self.store(x).0;
+        let p: [(f64, f64); 8] = core::array::from_fn(|l| super::emulated::split_pow2(x[l]));
+        (
+            self.load(&F64x8(p.map(|p| p.0))),
+            self.load(&F64x8(p.map(|p| p.1))),
+        )
+    }
+    #[inline(always)]
     fn add_up_raw(self, a: V, b: V) -> V {
         zip(a, b, |a, b| up(a + b))
     }

@@ -12,13 +12,22 @@
 //! `0 * inf`, a quotient `inf / inf`, a sum `inf - inf`: the lanes whose raw directed
 //! results are NaN; square roots outside the range where the scalar one is tight;
 //! constants that are not finite nonzero numbers), the block's NaN mask picks the
-//! lanes, and they are redone through the scalar operation. `exp`, `ln`, `sin`, `cos`
-//! and negative powers run lane by lane through the scalar operation too.
+//! lanes, and they are redone through the scalar operation.
+//!
+//! `exp` and `ln` are monotone: their bounds are the lanes' functions at the ends
+//! ([`arith_core::lanes::exp`], [`arith_core::lanes::ln`], proven within 9 ulp-units
+//! of the exact value), widened by the margin the scalar arithmetic gives libm's values
+//! (`round::LIBM_REL`, which libm is only assumed to meet). So they enclose the exact
+//! range as the scalar ones do, but are not the scalar bits: the two differ by a few
+//! units in the last place. Arguments outside the proven domains (`|x| > 700` for
+//! `exp`, zero, subnormal, infinite or NaN for `ln`) are redone through the scalar
+//! operation. `sin`, `cos` and negative powers run lane by lane through the scalar
+//! operation.
 
 use super::parts::{PartOps, Step};
 use crate::eval::apply;
 use crate::instr::{Instr, Op};
-use arith_core::lanes::{F64x8, Isa, LANES};
+use arith_core::lanes::{exp_enclosure, ln_enclosure, F64x8, Isa, EXP_MAX_ARG, LANES};
 use arith_ia::Interval;
 
 /// The interval kernel's values ([`super::parts`]): two blocks per register and block
@@ -174,6 +183,37 @@ fn hypot<I: Isa>(s: I, a: P<I>, b: P<I>) -> (P<I>, I::M) {
     (r, s.or(bad, bad2))
 }
 
+/// The scalar `range_exp` where both bounds lie in `[-EXP_MAX_ARG, EXP_MAX_ARG]`
+/// (elsewhere, and for NaN or reversed bounds, the mask is set): the bounds of the
+/// lanes' `exp` at the ends, which, like the scalar libm values, are widened by
+/// `LIBM_REL` (proven for the lanes' function), the lower one clipped at 0.
+#[inline(always)]
+fn exp<I: Isa>(s: I, (a, b): P<I>) -> (P<I>, I::M) {
+    let lim = s.splat(EXP_MAX_ARG);
+    let inside = |v| s.le(s.abs(v), lim);
+    let good = s.and(s.and(inside(a), inside(b)), s.le(a, b));
+    let lo = s.max(exp_enclosure(s, a).0, s.splat(0.0));
+    ((lo, exp_enclosure(s, b).1), s.not(good))
+}
+
+/// The scalar `range_ln` where the upper bound is a positive normal number and the
+/// lower one is too or is `<= 0` (elsewhere, and for NaN or reversed bounds, the mask is
+/// set): the bounds of the lanes' `ln` at the ends, widened as the scalar libm values
+/// are, `-inf` from a lower bound `<= 0`.
+#[inline(always)]
+fn ln<I: Isa>(s: I, (a, b): P<I>) -> (P<I>, I::M) {
+    let (tiny, huge) = (s.splat(f64::MIN_POSITIVE), s.splat(f64::MAX));
+    let normal = |v| s.and(s.le(tiny, v), s.le(v, huge));
+    let nonpositive = s.le(a, s.splat(0.0));
+    let good = s.and(normal(b), s.and(s.or(nonpositive, normal(a)), s.le(a, b)));
+    let lo = s.select(
+        nonpositive,
+        s.splat(f64::NEG_INFINITY),
+        ln_enclosure(s, a).0,
+    );
+    ((lo, ln_enclosure(s, b).1), s.not(good))
+}
+
 /// `t` where the truth values `c` are 1, `e` where they are 0, the hull where undecided.
 #[inline(always)]
 fn select<I: Isa>(s: I, c: P<I>, t: P<I>, e: P<I>) -> P<I> {
@@ -228,6 +268,8 @@ impl PartOps for Intervals {
             Op::Powi if i.n == 1 => op!(|x, y, z| (x, ok)),
             Op::Powi if i.n >= 2 => op!(|x, y, z| (powi_pos(s, x, i.n as u32), ok)),
             Op::Sqrt => op!(|x, y, z| sqrt(s, x)),
+            Op::Exp => op!(|x, y, z| exp(s, x)),
+            Op::Ln => op!(|x, y, z| ln(s, x)),
             Op::Abs => op!(|x, y, z| (mig_mag(s, x), ok)),
             Op::Recip => op!(|x, y, z| (rdiv(s, s.splat(1.0), x), ok)),
             Op::AddC if !c.is_nan() => op!(|x, y, z| add(s, x, (cv, cv))),
