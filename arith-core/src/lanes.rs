@@ -40,7 +40,10 @@ mod wide2;
 #[cfg(target_arch = "x86_64")]
 mod x86;
 
-pub use elementary::{exp, exp_enclosure, ln, ln_enclosure, ELEMENTARY_REL, EXP_MAX_ARG};
+pub use elementary::{
+    cos, exp, exp_enclosure, ln, ln_enclosure, sin, trig_enclosure, ELEMENTARY_REL, EXP_MAX_ARG,
+    TRIG_ABS, TRIG_MAX_ARG,
+};
 pub use emulated::Emulated;
 pub use wide2::Avx2;
 #[cfg(target_arch = "x86_64")]

@@ -1,4 +1,5 @@
-//! `exp` and `ln` in lanes, with proven error bounds, and their enclosures.
+//! `exp`, `ln`, `sin` and `cos` in lanes, with proven error bounds, and their
+//! enclosures.
 //!
 //! Both functions use only round-to-nearest lane operations (`+ - * / fma`, and the
 //! exact [`Isa::scale_pow2`] and [`Isa::split_pow2`]), so every path computes the same
@@ -60,13 +61,50 @@
 //!
 //! In all `|ln_lanes(x) - ln(x)| <= 8.3 u |ln(x)|`.
 //!
+//! ## `sin(x)` and `cos(x)` for `|x| <= TRIG_MAX_ARG` (`10^5`)
+//!
+//! `k = round(x 2/pi)` (`|k| <= 2^17`), `r = x - k pi/2` in three steps with fdlibm's
+//! 33-bit parts `PIO2_1 + PIO2_2 + PIO2_3` of `pi/2`, then `sin r` or `cos r` by
+//! their Taylor polynomials (to `r^17` and `r^18`) in `z = r^2`, picked and signed by
+//! `k mod 4` (`cos x = sin(x + pi/2)`: the quadrant `k + 1`).
+//!
+//! - Reduction. `k x 2/pi` is within `0.5 + 1.4e-11` of `k`, so `|r*| <= 0.7854`
+//!   (`r* = x - k pi/2`). `k PIO2_i` is exact (`17 + 33` bits). `r1 = x - k PIO2_1`
+//!   (one fma) is exact: for `k = 0` it is `x`; else `|x| >= 0.785`, `x` and
+//!   `k PIO2_1` are multiples of `2^-53`, and `|r1| < 1`. The two further fmas round:
+//!   with `T = pi/2 - PIO2_1 - PIO2_2 - PIO2_3` (`|T| <= 8.5e-32`, fdlibm's
+//!   `pio2_3t`), `|r - r*| <= 2.0001 u |r*| + u |k PIO2_3| + |k T| <= 2.0001 u |r*| +
+//!   1.2e-26`. Hence `|sin r - sin r*| <= 2.23 u |sin r*| + 1.2e-26` (as
+//!   `|r*| <= 1.111 |sin r*|`) and `|cos r - cos r*| <= 0.71 (2.0001 u 0.7854 +
+//!   1.2e-26)`, relative to `cos r* >= 0.707`: `1.58 u` and `1.3e-26` absolute.
+//! - `sin r = r + (r z) S(z)` with `S(z) = sum_{n=1..8} (-1)^n z^(n-1) / (2n+1)!`
+//!   (Horner, fmas), `|r| <= 0.78541`, `z <= 0.6169`: truncation below `0.001 u`
+//!   relative; `S` in `[-0.1667, -0.1615]` is within `u (0.1667 + 0.1667 + 0.0052
+//!   + 0.006 + ...) <= 0.36 u` (its rounding, the coefficients', the inner terms' and
+//!   `z`'s), `2.3 u` relative; `r z` rounds once, so `(r z) S` is within `3.3 u` of its
+//!   value, which is at most `0.1028 |r| <= 0.1142 |sin r|`; the last fma rounds by `u`:
+//!   in all `<= 1.38 u` relative.
+//! - `cos r = 1 + z C(z)`, `C(z) = sum_{n=1..9} (-1)^n z^(n-1) / (2n)!` in
+//!   `[-0.5, -0.474]`: `z`'s rounding moves `z C` by `<= 0.31 u`, `C`'s errors
+//!   (`<= 0.54 u`) by `<= 0.33 u`, the fma rounds by `<= u`: `1.64 u` absolute, `2.32 u`
+//!   relative to `cos r >= 0.707`; truncation `<= 3.3e-21`, below `0.001 u`.
+//!
+//! In all `|sin_lanes(x) - sin x| <= 3.9 u |sin x| + |k| 8.6e-32`, and likewise for
+//! `cos` (the reduction's absolute error is `|k| (u |PIO2_3| + |T|)`, 0 for `k = 0`).
+//! Where `z` or the products underflow (`k = 0` and `|x| < 2^-510`), each of the three
+//! roundings involved is off by at most `ETA / 2` more, and the terms the polynomial
+//! then drops are below `u |x|`: at most `2 ETA` in addition.
+//!
 //! ## The enclosures
 //!
 //! A computed `v` with `|v - f| <= 8.3 u |f|` has `|v - f| <= 8.3 u |v| / (1 - 8.3 u)
 //! < 16 u |v| = LIBM_REL |v|`, so `[v - m, v + m]` with `m = |v| LIBM_REL + ETA`
 //! (`|v| LIBM_REL` is exact or, for subnormal products, covered by `ETA`; the rounded
 //! sum is at least the exact one's first term) holds `f`, and so does its directed
-//! rounding outward. [`ELEMENTARY_REL`] is that `8.3 u`, rounded up to `9 u`.
+//! rounding outward. [`ELEMENTARY_REL`] is that `8.3 u`, rounded up to `9 u`. For
+//! `sin` and `cos`, `|v - f| <= 3.9 u |f| + a` (`a = |k| 8.6e-32 + 2 ETA`) gives
+//! `|v - f| < 16 u |v| + 2 a`, and the margin is `|v| LIBM_REL + |k| 2^-100 + 4 ETA`,
+//! computed with upward rounding (at most [`TRIG_ABS`] more than `|v| LIBM_REL`).
 
 use super::Isa;
 use crate::round::{ETA, LIBM_REL, U};
@@ -77,6 +115,45 @@ pub const ELEMENTARY_REL: f64 = 9.0 * U;
 
 /// The largest `|x|` for which [`exp`] is proven.
 pub const EXP_MAX_ARG: f64 = 700.0;
+
+/// The largest `|x|` for which [`sin`] and [`cos`] are proven.
+pub const TRIG_MAX_ARG: f64 = 1.0e5;
+
+/// The largest absolute term the enclosures of [`sin`] and [`cos`] add to the relative
+/// one, over their domain: `2^-84` (at most `|k| 2^-100 + 4 ETA`, `|k| < 2^16`).
+pub const TRIG_ABS: f64 = 5.169_878_828_456_423e-26;
+
+/// `2/pi`, rounded.
+const FRAC_2_PI: f64 = core::f64::consts::FRAC_2_PI;
+/// `pi/2` in three parts of 33 significant bits (fdlibm's `pio2_1`, `pio2_2`, `pio2_3`).
+const PIO2_1: f64 = f64::from_bits(0x3ff9_21fb_5440_0000);
+const PIO2_2: f64 = f64::from_bits(0x3dd0_b461_1a60_0000);
+const PIO2_3: f64 = f64::from_bits(0x3ba3_198a_2e00_0000);
+
+/// `(-1)^n / (2n+1)!` for `n = 8` down to `1`.
+const SIN_COEFFS: [f64; 8] = [
+    1.0 / 355_687_428_096_000.0,
+    -1.0 / 1_307_674_368_000.0,
+    1.0 / 6_227_020_800.0,
+    -1.0 / 39_916_800.0,
+    1.0 / 362_880.0,
+    -1.0 / 5040.0,
+    1.0 / 120.0,
+    -1.0 / 6.0,
+];
+
+/// `(-1)^n / (2n)!` for `n = 9` down to `1`.
+const COS_COEFFS: [f64; 9] = [
+    -1.0 / 6_402_373_705_728_000.0,
+    1.0 / 20_922_789_888_000.0,
+    -1.0 / 87_178_291_200.0,
+    1.0 / 479_001_600.0,
+    -1.0 / 3_628_800.0,
+    1.0 / 40_320.0,
+    -1.0 / 720.0,
+    1.0 / 24.0,
+    -0.5,
+];
 
 /// `log2(e)`, rounded.
 const LOG2_E: f64 = core::f64::consts::LOG2_E;
@@ -169,4 +246,61 @@ pub fn exp_enclosure<I: Isa>(s: I, x: I::V) -> (I::V, I::V) {
 #[inline(always)]
 pub fn ln_enclosure<I: Isa>(s: I, x: I::V) -> (I::V, I::V) {
     widen(s, ln(s, x))
+}
+
+/// `sin(x)` (`cos`: `cos(x)`) within `3.9 u |f(x)| + |k| 8.6e-32 + 2 ETA` for
+/// `|x| <= TRIG_MAX_ARG`, and `k`, the multiple of `pi/2` taken off `x`.
+#[inline(always)]
+fn trig<I: Isa>(s: I, x: I::V, cos: bool) -> (I::V, I::V) {
+    let shift = s.splat(SHIFT);
+    let k = s.sub(s.fma(x, s.splat(FRAC_2_PI), shift), shift);
+    let nk = s.neg(k);
+    let r = s.fma(nk, s.splat(PIO2_1), x);
+    let r = s.fma(nk, s.splat(PIO2_2), r);
+    let r = s.fma(nk, s.splat(PIO2_3), r);
+    let z = s.mul(r, r);
+    let mut t = s.splat(SIN_COEFFS[0]);
+    for &c in &SIN_COEFFS[1..] {
+        t = s.fma(z, t, s.splat(c));
+    }
+    let sin_r = s.fma(s.mul(r, z), t, r);
+    let mut c = s.splat(COS_COEFFS[0]);
+    for &k in &COS_COEFFS[1..] {
+        c = s.fma(z, c, s.splat(k));
+    }
+    let cos_r = s.fma(z, c, s.splat(1.0));
+    // The quadrant `q mod 4` as `q - 4 round(q / 4)`, in {-2, -1, 0, 1, 2}.
+    let q = if cos { s.add(k, s.splat(1.0)) } else { k };
+    let quarter = s.sub(s.fma(q, s.splat(0.25), shift), shift);
+    let m = s.fma(quarter, s.splat(-4.0), q);
+    let (one, two) = (s.splat(1.0), s.splat(2.0));
+    let odd = s.eq(s.abs(m), one);
+    let negative = s.or(s.eq(s.abs(m), two), s.eq(m, s.neg(one)));
+    let v = s.select(odd, cos_r, sin_r);
+    (s.select(negative, s.neg(v), v), k)
+}
+
+/// `sin(x)` within `3.9 u |sin x| + TRIG_ABS / 2` for `|x| <= TRIG_MAX_ARG`.
+#[inline(always)]
+pub fn sin<I: Isa>(s: I, x: I::V) -> I::V {
+    trig(s, x, false).0
+}
+
+/// `cos(x)` within `3.9 u |cos x| + TRIG_ABS / 2` for `|x| <= TRIG_MAX_ARG`.
+#[inline(always)]
+pub fn cos<I: Isa>(s: I, x: I::V) -> I::V {
+    trig(s, x, true).0
+}
+
+/// `2^-100`, the margin per multiple of `pi/2` taken off the argument.
+const TRIG_PER_K: f64 = 7.888_609_052_210_118e-31;
+
+/// Bounds of `sin(x)` (`cos`: `cos(x)`) for `|x| <= TRIG_MAX_ARG`: the value widened
+/// by `|v| LIBM_REL + |k| 2^-100 + 4 ETA` (rounded up), rounded outward.
+#[inline(always)]
+pub fn trig_enclosure<I: Isa>(s: I, x: I::V, cos: bool) -> (I::V, I::V) {
+    let (v, k) = trig(s, x, cos);
+    let abs = s.fma(s.abs(k), s.splat(TRIG_PER_K), s.splat(4.0 * ETA));
+    let m = s.add_up_raw(s.mul_up_raw(s.abs(v), s.splat(LIBM_REL)), abs);
+    (s.sub_down_raw(v, m), s.add_up_raw(v, m))
 }

@@ -19,15 +19,21 @@
 //! of the exact value), widened by the margin the scalar arithmetic gives libm's values
 //! (`round::LIBM_REL`, which libm is only assumed to meet). So they enclose the exact
 //! range as the scalar ones do, but are not the scalar bits: the two differ by a few
-//! units in the last place. Arguments outside the proven domains (`|x| > 700` for
-//! `exp`, zero, subnormal, infinite or NaN for `ln`) are redone through the scalar
-//! operation. `sin`, `cos` and negative powers run lane by lane through the scalar
-//! operation.
+//! units in the last place. `sin` and `cos` take the scalar's decisions (a width of
+//! 6.2 or more gives `[-1, 1]`; a maximum or minimum the interval may hold by the
+//! scalar's conservative test gives `1` or `-1`), in the same floating-point
+//! operations, and the lanes' `sin` and `cos` at the ends (proven within `3.9` ulp-units
+//! plus `1.5e-26`, widened by `LIBM_REL` and `2^-80`). Arguments outside the proven
+//! domains (`|x| > 700` for `exp`, zero, subnormal, infinite or NaN for `ln`,
+//! `|x| > 10^5` for `sin` and `cos`) are redone through the scalar operation. Negative
+//! powers run lane by lane through the scalar operation.
 
 use super::parts::{PartOps, Step};
 use crate::eval::apply;
 use crate::instr::{Instr, Op};
-use arith_core::lanes::{exp_enclosure, ln_enclosure, F64x8, Isa, EXP_MAX_ARG, LANES};
+use arith_core::lanes::{
+    exp_enclosure, ln_enclosure, trig_enclosure, F64x8, Isa, EXP_MAX_ARG, LANES, TRIG_MAX_ARG,
+};
 use arith_ia::Interval;
 
 /// The interval kernel's values ([`super::parts`]): two blocks per register and block
@@ -214,6 +220,57 @@ fn ln<I: Isa>(s: I, (a, b): P<I>) -> (P<I>, I::M) {
     ((lo, ln_enclosure(s, b).1), s.not(good))
 }
 
+/// Whether `[a, b]` may hold `offset + 2 k pi` for an integer `k`: the scalar
+/// `may_contain` (the quotients widened by `1e-6` periods, then `ceil(u) <= floor(v)`),
+/// its roundings the same, the integer parts through the `1.5 * 2^52` shift (the
+/// quotients are below `2^51`).
+#[inline(always)]
+fn may_contain<I: Isa>(s: I, a: I::V, b: I::V, offset: f64) -> I::M {
+    use core::f64::consts::TAU;
+    const PERIOD_EPS: f64 = 1.0e-6;
+    let (off, period, eps) = (s.splat(offset), s.splat(TAU), s.splat(PERIOD_EPS));
+    let u = s.sub(s.div(s.sub(a, off), period), eps);
+    let v = s.add(s.div(s.sub(b, off), period), eps);
+    let shift = s.splat(6_755_399_441_055_744.0);
+    let near = |x| s.sub(s.add(x, shift), shift);
+    let one = s.splat(1.0);
+    let (nu, nv) = (near(u), near(v));
+    let ceil_u = s.select(s.lt(nu, u), s.add(nu, one), nu);
+    let floor_v = s.select(s.lt(v, nv), s.sub(nv, one), nv);
+    s.le(ceil_u, floor_v)
+}
+
+/// The scalar `range_sin` (`cos`: `range_cos`) where both bounds lie in
+/// `[-TRIG_MAX_ARG, TRIG_MAX_ARG]` (elsewhere, and for NaN or reversed bounds, the mask
+/// is set): `[-1, 1]` from a width of 6.2 on, else the lanes' enclosures at the ends,
+/// and `1` (`-1`) where the scalar test says the interval may hold a maximum (minimum).
+#[inline(always)]
+fn trig<I: Isa>(s: I, (a, b): P<I>, cos: bool) -> (P<I>, I::M) {
+    use core::f64::consts::{FRAC_PI_2, PI};
+    let lim = s.splat(TRIG_MAX_ARG);
+    let inside = |v| s.le(s.abs(v), lim);
+    let good = s.and(s.and(inside(a), inside(b)), s.le(a, b));
+    let (fa, fb) = (trig_enclosure(s, a, cos), trig_enclosure(s, b, cos));
+    let (max_at, min_at) = if cos {
+        (0.0, PI)
+    } else {
+        (FRAC_PI_2, -FRAC_PI_2)
+    };
+    let (one, minus_one) = (s.splat(1.0), s.splat(-1.0));
+    let wide = s.le(s.splat(6.2), s.sub(b, a));
+    let hi = s.select(
+        s.or(wide, may_contain(s, a, b, max_at)),
+        one,
+        s.max(fa.1, fb.1),
+    );
+    let lo = s.select(
+        s.or(wide, may_contain(s, a, b, min_at)),
+        minus_one,
+        s.min(fa.0, fb.0),
+    );
+    ((s.max(lo, minus_one), s.min(hi, one)), s.not(good))
+}
+
 /// `t` where the truth values `c` are 1, `e` where they are 0, the hull where undecided.
 #[inline(always)]
 fn select<I: Isa>(s: I, c: P<I>, t: P<I>, e: P<I>) -> P<I> {
@@ -270,6 +327,8 @@ impl PartOps for Intervals {
             Op::Sqrt => op!(|x, y, z| sqrt(s, x)),
             Op::Exp => op!(|x, y, z| exp(s, x)),
             Op::Ln => op!(|x, y, z| ln(s, x)),
+            Op::Sin => op!(|x, y, z| trig(s, x, false)),
+            Op::Cos => op!(|x, y, z| trig(s, x, true)),
             Op::Abs => op!(|x, y, z| (mig_mag(s, x), ok)),
             Op::Recip => op!(|x, y, z| (rdiv(s, s.splat(1.0), x), ok)),
             Op::AddC if !c.is_nan() => op!(|x, y, z| add(s, x, (cv, cv))),
