@@ -374,7 +374,7 @@ impl Tape {
         let chunks = n.div_ceil(LANES);
         let slots = self.slots();
         let mut buf = [0.0; parts::MAX_PARTS];
-        let pass = chunks.min(parts::PASS_BLOCKS);
+        let pass = chunks.min(parts::pass_blocks(np));
         regfile::with_file(
             np * (slots.count + parts::SCRATCH) * pass,
             4 * np * chunks,

@@ -2,7 +2,7 @@
 //! (a point; an interval's bounds; a dual number's value and partials; a revised affine
 //! form's centre, coefficients and error term).
 //!
-//! The batch is walked in passes of at most [`PASS_BLOCKS`] blocks of eight lanes: each
+//! The batch is walked in passes of at most [`pass_blocks`] blocks of eight lanes: each
 //! pass runs the whole tape over its blocks, so the register file is bounded however
 //! large the batch. Within a pass of `ch` blocks each register holds
 //! [`PartOps::PARTS`] blocks per block index (slot `s`, block `c` at
@@ -23,11 +23,22 @@ use core::marker::PhantomData;
 /// The most parts a value may have.
 pub(crate) const MAX_PARTS: usize = 5;
 
-/// Blocks of eight lanes per pass over the tape (512 lanes). Each pass pays the walk's
-/// cost per instruction again, which outweighs keeping the registers in the level-one
-/// cache: measured on fidget's colonnade and bear, 512 lanes in passes of 64 ran 1.1
-/// to 1.5 times slower than in one pass.
+/// The most blocks of eight lanes per pass over the tape (512 lanes).
 pub(crate) const PASS_BLOCKS: usize = 64;
+
+/// Blocks per pass for values of `parts` parts. Each pass pays the walk's cost per
+/// instruction again, which outweighs keeping the registers in the level-one cache for
+/// points and intervals (on fidget's colonnade and bear, 512 lanes in passes of 64 ran
+/// 1.1 to 1.5 times slower than in one pass), but not for values of more parts: dual
+/// numbers over 512 lanes ran 1.2 to 1.6 times faster in passes of 128 lanes than in
+/// one pass.
+pub(crate) fn pass_blocks(parts: usize) -> usize {
+    if parts <= 2 {
+        PASS_BLOCKS
+    } else {
+        PASS_BLOCKS / 4
+    }
+}
 
 /// Scratch slots after a tape's own, for constants repeated over a pass.
 pub(crate) const SCRATCH: usize = 3;
@@ -78,7 +89,7 @@ impl Step<'_> {
     }
 }
 
-/// One tape over `chunks` blocks of values of type `P`, in passes ([`PASS_BLOCKS`]):
+/// One tape over `chunks` blocks of values of type `P`, in passes ([`pass_blocks`]):
 /// `file` holds `P::PARTS` blocks per slot and block index of a pass (the tape's slots,
 /// then [`SCRATCH`] more), `inputs` the blocks of `x`, `y`, `z` over the whole batch
 /// (input `q`'s block `c` at `PARTS * (q * chunks + c)`), `output` receives the last
@@ -116,7 +127,7 @@ impl<P: PartOps> Kernel for Parts<'_, P> {
         let parts = P::PARTS;
         let mut start = 0;
         while start < chunks {
-            let ch = PASS_BLOCKS.min(chunks - start);
+            let ch = pass_blocks(parts).min(chunks - start);
             let n = parts * ch;
             pass::<P, I>(
                 s,
