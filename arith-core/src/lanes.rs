@@ -34,11 +34,16 @@
 
 use core::fmt;
 
+mod elementary;
 mod emulated;
 mod wide2;
 #[cfg(target_arch = "x86_64")]
 mod x86;
 
+pub use elementary::{
+    cos, exp, exp_enclosure, ln, ln_enclosure, sin, trig_enclosure, ELEMENTARY_REL, EXP_MAX_ARG,
+    TRIG_ABS, TRIG_MAX_ARG,
+};
 pub use emulated::Emulated;
 pub use wide2::Avx2;
 #[cfg(target_arch = "x86_64")]
@@ -219,6 +224,13 @@ pub trait Isa: Copy + Send + Sync + 'static {
     fn not(self, a: Self::M) -> Self::M;
     /// The mask as bits, lane `k` in bit `k`.
     fn bits(self, m: Self::M) -> u8;
+
+    /// `a * 2^k` for integral `k` with `|k| <= 1022` where the result is a normal
+    /// number (then exact); other lanes get some value.
+    fn scale_pow2(self, a: Self::V, k: Self::V) -> Self::V;
+    /// `(m, e)` with `x = m * 2^e` exactly, `m` in `[0.75, 1.5)` and `e` integral, for
+    /// positive normal `x`; other lanes get some values.
+    fn split_pow2(self, x: Self::V) -> (Self::V, Self::V);
 
     /// Ceiling of `a + b`; NaN where `a + b` is NaN (see the module documentation).
     fn add_up_raw(self, a: Self::V, b: Self::V) -> Self::V;

@@ -360,7 +360,7 @@ impl Tape {
     }
 
     /// [`Tape::batch_parts`], the registers `watch` maps to a place `w` (`u32::MAX`:
-    /// not watched) also copied to `seen`, laid out as a slot `w` of the register file
+    /// not watched) also copied to `seen`, laid out as the staged input `w` would be
     /// ([`parts::Parts`]).
     fn watched_parts<P: parts::PartOps>(
         &self,
@@ -374,10 +374,12 @@ impl Tape {
         let chunks = n.div_ceil(LANES);
         let slots = self.slots();
         let mut buf = [0.0; parts::MAX_PARTS];
+        let pass = chunks.min(parts::pass_blocks(np));
         regfile::with_file(
-            np * slots.count * chunks,
-            3 * np * chunks,
-            |file, inputs| {
+            np * (slots.count + parts::SCRATCH) * pass,
+            4 * np * chunks,
+            |file, staged| {
+                let (inputs, output) = staged.split_at_mut(3 * np * chunks);
                 for q in 0..3 {
                     for j in 0..chunks {
                         let at = np * (q * chunks + j);
@@ -389,24 +391,22 @@ impl Tape {
                         }
                     }
                 }
-                let ins = self.instructions();
                 let kernel = parts::Parts::<P> {
-                    ins,
+                    ins: self.instructions(),
                     slots,
                     file,
                     inputs,
+                    output: &mut *output,
                     chunks,
                     watch,
                     seen,
                     kind: PhantomData,
                 };
                 dispatch(path, kernel);
-                let r = np * slots.slot[ins.len() - 1] as usize * chunks;
-                let step = usize::from(ins[ins.len() - 1].op != Op::Const);
                 for l in 0..n {
-                    let b = r + np * step * (l / LANES);
+                    let b = np * (l / LANES);
                     for (k, v) in buf[..np].iter_mut().enumerate() {
-                        *v = file[b + k].0[l % LANES];
+                        *v = output[b + k].0[l % LANES];
                     }
                     put(l, &buf[..np]);
                 }

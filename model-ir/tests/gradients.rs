@@ -157,4 +157,16 @@ fn constants_and_short_batches() {
     let c = b.emit(Instr::new(Op::Const, 0, 0, 0, 2.5));
     let t = b.finish(Val::R(c));
     check_points(&t, &pts, &t).unwrap();
+    // More lanes than one pass of the kernel (512).
+    let long: Vec<[f64; 3]> = (0..1100)
+        .map(|k| {
+            let v = (k as f64 * 0.37).sin();
+            [v, -v, 0.5 * v]
+        })
+        .collect();
+    let t = Tape::record(|x, y, z| {
+        use arith_core::Real;
+        (x.max(&Real::constant(0.5)) * y + z.sqr()).sqrt()
+    });
+    check_points(&t, &long, &t).unwrap();
 }

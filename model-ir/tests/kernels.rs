@@ -1,7 +1,9 @@
 //! The batch kernels (points and intervals over eight-lane blocks) on every lane path
 //! this processor has, against the scalar evaluation and the 256-bit reference:
 //! points give the scalar bits; interval bounds are the scalar numbers on the AVX-512
-//! and emulated paths and enclose them on the AVX2 path; on every path each range holds
+//! and emulated paths and enclose them on the AVX2 path (with `exp` or `ln`, whose
+//! lanes' enclosures are not libm's, they overlap them and are at most about twice as
+//! wide); on every path each range holds
 //! the exact value of the function at random points of its box, also over boxes with
 //! infinite, zero and huge bounds (the lanes redone on the scalar path).
 
@@ -13,7 +15,7 @@ use arith_core::testkit::checks::{cases, check_point, run};
 use arith_core::testkit::expr::{expr_strategy, Expr};
 use arith_core::{Range, Real};
 use arith_ia::{Interval, IntervalX4};
-use common::{paths, point, point_in, same_bits};
+use common::{close, has_elementary, paths, point, point_in, same_bits};
 use model_ir::Tape;
 use proptest::prelude::*;
 use proptest::test_runner::TestCaseError;
@@ -80,8 +82,10 @@ fn check_intervals(e: &Expr, bs: &[[Side; 3]]) -> Result<(), TestCaseError> {
         prop_assert_eq!(out.len(), bs.len());
         for (l, o) in out.iter().enumerate() {
             let scalar = t.eval(x[l], y[l], z[l]).bounds();
+            let ok = agrees(path, o.bounds(), scalar)
+                || (has_elementary(e) && close(o.bounds(), scalar));
             prop_assert!(
-                agrees(path, o.bounds(), scalar),
+                ok,
                 "{path}, lane {l} of {}: {:?} batched, {scalar:?} scalar\n{e}",
                 bs.len(),
                 o.bounds()
@@ -221,10 +225,9 @@ fn pack_batches_match_pack_evaluation() {
                 for (k, o) in out.iter().enumerate() {
                     let one = t.eval(px[k], py[k], pz[k]).unpack();
                     for (a, b) in o.unpack().iter().zip(&one) {
-                        prop_assert!(
-                            agrees(path, a.bounds(), b.bounds()),
-                            "{path}: {a:?} vs {b:?}"
-                        );
+                        let ok = agrees(path, a.bounds(), b.bounds())
+                            || (has_elementary(&e) && close(a.bounds(), b.bounds()));
+                        prop_assert!(ok, "{path}: {a:?} vs {b:?}");
                     }
                 }
             }
@@ -274,6 +277,53 @@ fn constants_last_read_across_blocks() {
                 t.eval(p[l], p[l], p[l]).to_bits(),
                 "{path} {l}"
             );
+        }
+    }
+}
+
+/// A batch longer than one pass of the kernels (512 lanes) runs in several passes:
+/// every lane still gives what the scalar evaluation gives, also where the tape's
+/// result is an input or a constant, and where constants are read in every pass.
+#[test]
+fn batches_of_several_passes() {
+    let tapes = [
+        Tape::record(|x, y, z| {
+            let a = x.max(&Real::constant(0.5)) * y.min(&Real::constant(-0.25));
+            (a + z.sqr()).sqrt() - x * y
+        }),
+        Tape::record(|_x, y, _z| y),
+        Tape::record(|_x, _y, _z| Real::constant(1.5)),
+    ];
+    let n = 1100;
+    let x: Vec<Interval> = (0..n)
+        .map(|k| Interval::new(k as f64 / 400.0 - 1.0, k as f64 / 300.0))
+        .collect();
+    let p: Vec<f64> = (0..n).map(|k| (k as f64 * 0.37).sin()).collect();
+    for t in &tapes {
+        for path in paths() {
+            let mut out = Vec::new();
+            t.eval_batch_on(
+                path,
+                &x,
+                &p.iter().map(|&v| Interval::point(v)).collect::<Vec<_>>(),
+                &x,
+                &mut out,
+            );
+            assert_eq!(out.len(), n);
+            for (l, o) in out.iter().enumerate() {
+                let s = t.eval(x[l], Interval::point(p[l]), x[l]).bounds();
+                assert!(agrees(path, o.bounds(), s), "{path} {l}: {o:?} vs {s:?}");
+            }
+            let mut out = Vec::new();
+            t.eval_batch_on(path, &p, &p, &p, &mut out);
+            assert_eq!(out.len(), n);
+            for (l, o) in out.iter().enumerate() {
+                assert_eq!(
+                    o.to_bits(),
+                    t.eval(p[l], p[l], p[l]).to_bits(),
+                    "{path} {l}"
+                );
+            }
         }
     }
 }

@@ -3,6 +3,8 @@
 //! arithmetic), so it encloses every value the code's function takes; and a tape
 //! specialised to a region has the sign of the whole tape at every point there.
 
+mod common;
+
 use arith_aa::Aa;
 use arith_core::lanes::Path;
 use arith_core::testkit::checks::{cases, run};
@@ -12,6 +14,7 @@ use arith_hull::Hull;
 use arith_ia::Interval;
 use arith_raa::Raa;
 use arith_revaa::RevAa;
+use common::{close, has_elementary};
 use model_ir::{Op, Tape};
 use proptest::prelude::*;
 use proptest::test_runner::TestCaseError;
@@ -179,7 +182,11 @@ fn fused_scenes_hold_r_function_instructions() {
 /// at points, whatever the number of lanes (intervals: see `tests/kernels.rs`).
 #[test]
 fn batches_match_single_evaluations() {
-    fn lanes<R: Range>(t: &Tape, bs: &[[(f64, f64); 3]]) -> Result<(), TestCaseError> {
+    fn lanes<R: Range>(
+        t: &Tape,
+        bs: &[[(f64, f64); 3]],
+        elementary: bool,
+    ) -> Result<(), TestCaseError> {
         let ins: Vec<[R; 3]> = bs
             .iter()
             .map(|b| [0, 1, 2].map(|k| R::input(k, b[k].0, b[k].1)))
@@ -192,11 +199,18 @@ fn batches_match_single_evaluations() {
             let (a, b) = (o.bounds(), t.eval(x, y, z).bounds());
             // Intervals run the lane kernels: the scalar numbers (a zero bound's sign
             // aside), or an enclosure of them on the AVX2 path.
+            // With `exp` or `ln`, whose lanes' enclosures are not libm's, they overlap
+            // and are at most about twice as wide (`common::close`).
             let ok = match (R::NAME, Path::current()) {
+                ("ia", _) if elementary && close(a, b) => true,
                 ("ia", Path::Avx2) => {
                     (a.0 <= b.0 && b.1 <= a.1) || b.0.is_infinite() || b.1.is_infinite()
                 }
                 ("ia", _) => a == b,
+                // RevAA's square on the AVX2 path may take a radius bound an ulp
+                // higher (as sound; its containment is checked in
+                // `tests/revaa_kernel.rs`), so its choices may differ.
+                ("revaa", Path::Avx2) => close(a, b),
                 _ => same(a.0, b.0) && same(a.1, b.1),
             };
             prop_assert!(ok, "{}: {a:?} vs {b:?}", R::NAME);
@@ -209,11 +223,11 @@ fn batches_match_single_evaluations() {
         (expr_strategy(6, 3), prop::collection::vec(boxes(), 0..9)),
         |(e, bs)| {
             let t = recorded(&e);
-            lanes::<Interval>(&t, &bs)?;
-            lanes::<RevAa<3>>(&t, &bs)?;
-            lanes::<Raa<3>>(&t, &bs)?;
-            lanes::<Hull<3>>(&t, &bs)?;
-            lanes::<Aa>(&t, &bs)?;
+            lanes::<Interval>(&t, &bs, has_elementary(&e))?;
+            lanes::<RevAa<3>>(&t, &bs, has_elementary(&e))?;
+            lanes::<Raa<3>>(&t, &bs, has_elementary(&e))?;
+            lanes::<Hull<3>>(&t, &bs, has_elementary(&e))?;
+            lanes::<Aa>(&t, &bs, has_elementary(&e))?;
             let pts: Vec<f64> = bs.iter().map(|b| b[0].0).collect();
             let mut out = Vec::new();
             t.eval_batch(&pts, &pts, &pts, &mut out);

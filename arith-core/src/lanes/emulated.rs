@@ -93,6 +93,28 @@ pub(crate) fn sqrt_hi(x: f64) -> f64 {
     }
 }
 
+/// `a * 2^k` for integral `|k| <= 1022` and a normal result (exact): the power of
+/// two built from its bits (any other `k` is clamped into range first).
+#[inline(always)]
+pub(crate) fn scale_pow2(a: f64, k: f64) -> f64 {
+    let k = k.clamp(-1022.0, 1023.0) as i64;
+    a * f64::from_bits(((k + 1023) as u64) << 52)
+}
+
+/// `(m, e)` with `x = m 2^e`, `m` in `[0.75, 1.5)`, `e` integral, for positive normal
+/// `x` (from the bits: the significand in `[1, 2)`, halved from 1.5 on).
+#[inline(always)]
+pub(crate) fn split_pow2(x: f64) -> (f64, f64) {
+    let b = x.to_bits();
+    let e = ((b >> 52) & 0x7ff) as i64 - 1023;
+    let m = f64::from_bits((b & ((1 << 52) - 1)) | (1023 << 52));
+    if m >= 1.5 {
+        (0.5 * m, (e + 1) as f64)
+    } else {
+        (m, e as f64)
+    }
+}
+
 impl Isa for Emulated {
     type V = V;
     type M = u8;
@@ -193,6 +215,15 @@ impl Isa for Emulated {
     #[inline(always)]
     fn bits(self, m: u8) -> u8 {
         m
+    }
+    #[inline(always)]
+    fn scale_pow2(self, a: V, k: V) -> V {
+        zip(a, k, scale_pow2)
+    }
+    #[inline(always)]
+    fn split_pow2(self, x: V) -> (V, V) {
+        let p: [(f64, f64); LANES] = core::array::from_fn(|k| split_pow2(x[k]));
+        (p.map(|p| p.0), p.map(|p| p.1))
     }
     #[inline(always)]
     fn add_up_raw(self, a: V, b: V) -> V {

@@ -287,3 +287,60 @@ fn each_path_rounds_its_own_way() {
         assert_eq!((down.0[3], up.0[3]), (f64::MAX, f64::INFINITY), "{path}");
     }
 }
+
+/// [`Isa::scale_pow2`] and [`Isa::split_pow2`] over eight lanes.
+struct Pow2(F64x8, F64x8);
+
+impl Kernel for Pow2 {
+    type Output = (F64x8, F64x8, F64x8);
+    #[inline(always)]
+    fn run<I: Isa>(self, s: I) -> Self::Output {
+        let (a, k) = (s.load(&self.0), s.load(&self.1));
+        let (m, e) = s.split_pow2(a);
+        (s.store(s.scale_pow2(a, k)), s.store(m), s.store(e))
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(3000))]
+
+    /// `scale_pow2` is the exact product and `split_pow2` the exact split with the
+    /// significand in `[0.75, 1.5)`, the same bits on every path, over positive normal
+    /// numbers of every exponent (the significands 0.75 and 1.5 included).
+    #[test]
+    fn powers_of_two_are_exact(
+        bits in prop::array::uniform8(
+            prop_oneof![
+                (1u64..0x7ff, 0u64..(1 << 52)).prop_map(|(e, m)| (e << 52) | m),
+                (1u64..0x7ff, prop::sample::select(vec![0u64, 1 << 51, (1 << 51) - 1]))
+                    .prop_map(|(e, m)| (e << 52) | m),
+            ]
+        ),
+        ks in prop::array::uniform8(-60i32..60),
+    ) {
+        let a = F64x8(bits.map(f64::from_bits));
+        // Powers that keep `a 2^k` normal.
+        let k = F64x8(core::array::from_fn(|l| {
+            let e = ((bits[l] >> 52) as i32) - 1023;
+            f64::from(ks[l].clamp(-1021 - e, 1022 - e))
+        }));
+        let want = dispatch(Path::Emulated, Pow2(a, k));
+        for l in 0..LANES {
+            let (x, m, e) = (a.0[l], want.1 .0[l], want.2 .0[l]);
+            prop_assert!((0.75..1.5).contains(&m) && e == e.trunc(), "{x:e}: {m} {e}");
+            // m 2^e without an intermediate overflow or underflow.
+            let back = if e >= 0.0 {
+                m * 2f64.powi(e as i32 - 1) * 2.0
+            } else {
+                m * 2f64.powi(e as i32 + 1) / 2.0
+            };
+            prop_assert_eq!(back, x);
+            let p = want.0 .0[l];
+            prop_assert_eq!(p / 2f64.powi(k.0[l] as i32), x, "{:e} 2^{}", x, k.0[l]);
+        }
+        for path in hardware_paths() {
+            let got = dispatch(path, Pow2(a, k));
+            prop_assert_eq!(got, want, "{}", path);
+        }
+    }
+}

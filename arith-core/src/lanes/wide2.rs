@@ -11,7 +11,7 @@
 //! as it is (the root of `0`); every other result steps, so exact results lose one ulp.
 
 use super::{F64x8, Isa, Path};
-use wide::{bytemuck, f64x4, i64x4};
+use wide::{bytemuck, f64x4, i64x4, u64x4};
 
 /// The AVX2 path's token: exists only where the processor has AVX2 and FMA.
 #[derive(Clone, Copy, Debug)]
@@ -66,6 +66,31 @@ fn up(r: f64x4) -> f64x4 {
 #[inline(always)]
 fn down(r: f64x4) -> f64x4 {
     -up(-r)
+}
+
+/// `2^k` for integral `|k| <= 1023`: `2^52 + 1023 + k` holds `1023 + k` in its
+/// significand's bits, which shifted to the exponent field make the power.
+#[inline(always)]
+fn pow2(k: f64x4) -> f64x4 {
+    let t: u64x4 = bytemuck::cast(k + f64x4::splat(4_503_599_627_371_519.0));
+    bytemuck::cast(t << 52)
+}
+
+/// The emulated path's `split_pow2` on four lanes: the biased exponent and the
+/// significand in `[1, 2)` from the bits (the exponent as a float through the same
+/// `2^52` offset), halved from 1.5 on.
+#[inline(always)]
+fn split_pow2(x: f64x4) -> (f64x4, f64x4) {
+    let b: u64x4 = bytemuck::cast(x);
+    let m: f64x4 = bytemuck::cast((b & u64x4::splat((1 << 52) - 1)) | u64x4::splat(1023 << 52));
+    let offset = u64x4::splat(0x433 << 52);
+    let e: f64x4 = bytemuck::cast((b >> 52) | offset);
+    let e = e - f64x4::splat(4_503_599_627_371_519.0);
+    let big = m.simd_ge(f64x4::splat(1.5));
+    (
+        big.select(m * f64x4::splat(0.5), m),
+        big.select(e + f64x4::splat(1.0), e),
+    )
 }
 
 impl Isa for Avx2 {
@@ -170,6 +195,16 @@ impl Isa for Avx2 {
     #[inline(always)]
     fn bits(self, m: V) -> u8 {
         (m.0.to_bitmask() | (m.1.to_bitmask() << 4)) as u8
+    }
+    #[inline(always)]
+    fn scale_pow2(self, a: V, k: V) -> V {
+        zip(a, k, |a, k| a * pow2(k))
+    }
+    #[inline(always)]
+    fn split_pow2(self, x: V) -> (V, V) {
+        let (m0, e0) = split_pow2(x.0);
+        let (m1, e1) = split_pow2(x.1);
+        ((m0, m1), (e0, e1))
     }
     #[inline(always)]
     fn add_up_raw(self, a: V, b: V) -> V {

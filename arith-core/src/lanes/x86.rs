@@ -178,6 +178,22 @@ impl Isa for Avx512 {
         m
     }
     #[inline(always)]
+    fn scale_pow2(self, a: __m512d, k: __m512d) -> __m512d {
+        unsafe { _mm512_scalef_pd(a, k) }
+    }
+    #[inline(always)]
+    fn split_pow2(self, x: __m512d) -> (__m512d, __m512d) {
+        unsafe {
+            // The significand in [0.75, 1.5) and floor(log2(x)); a significand below 1
+            // is the bits' one halved, so its exponent is one more.
+            let m = _mm512_getmant_pd::<_MM_MANT_NORM_P75_1P5, _MM_MANT_SIGN_SRC>(x);
+            let e = _mm512_getexp_pd(x);
+            let below = _mm512_cmp_pd_mask::<_CMP_LT_OQ>(m, _mm512_set1_pd(1.0));
+            let e = _mm512_mask_add_pd(e, below, e, _mm512_set1_pd(1.0));
+            (m, e)
+        }
+    }
+    #[inline(always)]
     fn add_up_raw(self, a: __m512d, b: __m512d) -> __m512d {
         unsafe { _mm512_add_round_pd::<UP>(a, b) }
     }

@@ -236,10 +236,9 @@ fn scalar_chain<I: Isa>(s: I, i: &Instr, a: D<I::V>) -> D<I::V> {
     chain(s, a, v, dv)
 }
 
-/// Eight dual numbers from the [`PARTS`] blocks at `file[k..]`.
+/// Eight dual numbers from their [`PARTS`] blocks.
 #[inline(always)]
-fn load<I: Isa>(s: I, file: &[F64x8], k: usize) -> D<I::V> {
-    let p = &file[k..k + PARTS];
+fn load<I: Isa>(s: I, p: &[F64x8; PARTS]) -> D<I::V> {
     D {
         v: s.load(&p[0]),
         g: [s.load(&p[1]), s.load(&p[2]), s.load(&p[3])],
@@ -252,33 +251,33 @@ impl PartOps for Duals {
     /// [`PartOps::instruction`] for dual numbers.
     #[inline(always)]
     fn instruction<I: Isa>(s: I, at: Step<'_>) {
-        let (i, o, ops, ch, file) = (at.i, at.o, at.ops, at.ch, at.file);
+        let i = at.i;
         let c = s.splat(i.c);
-        let at = |k: usize, j: usize| ops[k].0 + ops[k].1 * j;
         macro_rules! op {
-            (|$j:ident| $body:expr) => {
-                for $j in 0..ch {
+            (|$ops:ident| $body:expr) => {
+                at.each::<PARTS>(|w, $ops| {
                     let r: D<I::V> = $body;
-                    let w = &mut file[o + PARTS * $j..o + PARTS * ($j + 1)];
-                    w[0] = s.store(r.v);
-                    w[1] = s.store(r.g[0]);
-                    w[2] = s.store(r.g[1]);
-                    w[3] = s.store(r.g[2]);
-                }
+                    *w = [
+                        s.store(r.v),
+                        s.store(r.g[0]),
+                        s.store(r.g[1]),
+                        s.store(r.g[2]),
+                    ];
+                })
             };
         }
         macro_rules! un {
             (|$x:ident| $body:expr) => {
-                op!(|j| {
-                    let $x = load(s, file, at(0, j));
+                op!(|ops| {
+                    let $x = load(s, ops[0]);
                     $body
                 })
             };
         }
         macro_rules! bin {
             (|$x:ident, $y:ident| $body:expr) => {
-                op!(|j| {
-                    let ($x, $y) = (load(s, file, at(0, j)), load(s, file, at(1, j)));
+                op!(|ops| {
+                    let ($x, $y) = (load(s, ops[0]), load(s, ops[1]));
                     $body
                 })
             };
@@ -287,7 +286,7 @@ impl PartOps for Duals {
             Op::X | Op::Y | Op::Z | Op::Const => unreachable!("not an operation on registers"),
             Op::Neg => un!(|x| neg(s, x)),
             Op::Sqr => un!(|x| sqr(s, x)),
-            Op::Powi if i.n == 0 => op!(|j| constant(s, 1.0)),
+            Op::Powi if i.n == 0 => op!(|_ops| constant(s, 1.0)),
             Op::Exp | Op::Ln | Op::Sin | Op::Cos | Op::Powi => un!(|x| scalar_chain(s, i, x)),
             Op::Sqrt => un!(|x| sqrt(s, x)),
             Op::Recip => un!(|x| recip(s, x)),
@@ -322,9 +321,9 @@ impl PartOps for Duals {
             Op::Gt0 => un!(|x| step(s, x, true)),
             Op::Ge0 => un!(|x| step(s, x, false)),
             // The branch the truth value picks, value and partials.
-            Op::Select => op!(|j| {
-                let m = s.lt(s.splat(0.5), s.load(&file[at(0, j)]));
-                pick(s, m, load(s, file, at(1, j)), load(s, file, at(2, j)))
+            Op::Select => op!(|ops| {
+                let m = s.lt(s.splat(0.5), s.load(&ops[0][0]));
+                pick(s, m, load(s, ops[1]), load(s, ops[2]))
             }),
         }
     }

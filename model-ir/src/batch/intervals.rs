@@ -12,13 +12,28 @@
 //! `0 * inf`, a quotient `inf / inf`, a sum `inf - inf`: the lanes whose raw directed
 //! results are NaN; square roots outside the range where the scalar one is tight;
 //! constants that are not finite nonzero numbers), the block's NaN mask picks the
-//! lanes, and they are redone through the scalar operation. `exp`, `ln`, `sin`, `cos`
-//! and negative powers run lane by lane through the scalar operation too.
+//! lanes, and they are redone through the scalar operation.
+//!
+//! `exp` and `ln` are monotone: their bounds are the lanes' functions at the ends
+//! ([`arith_core::lanes::exp`], [`arith_core::lanes::ln`], proven within 9 ulp-units
+//! of the exact value), widened by the margin the scalar arithmetic gives libm's values
+//! (`round::LIBM_REL`, which libm is only assumed to meet). So they enclose the exact
+//! range as the scalar ones do, but are not the scalar bits: the two differ by a few
+//! units in the last place. `sin` and `cos` take the scalar's decisions (a width of
+//! 6.2 or more gives `[-1, 1]`; a maximum or minimum the interval may hold by the
+//! scalar's conservative test gives `1` or `-1`), in the same floating-point
+//! operations, and the lanes' `sin` and `cos` at the ends (proven within `3.9` ulp-units
+//! plus `1.5e-26`, widened by `LIBM_REL` and `2^-80`). Arguments outside the proven
+//! domains (`|x| > 700` for `exp`, zero, subnormal, infinite or NaN for `ln`,
+//! `|x| > 10^5` for `sin` and `cos`) are redone through the scalar operation. Negative
+//! powers run lane by lane through the scalar operation.
 
 use super::parts::{PartOps, Step};
 use crate::eval::apply;
 use crate::instr::{Instr, Op};
-use arith_core::lanes::{F64x8, Isa, LANES};
+use arith_core::lanes::{
+    exp_enclosure, ln_enclosure, trig_enclosure, F64x8, Isa, EXP_MAX_ARG, LANES, TRIG_MAX_ARG,
+};
 use arith_ia::Interval;
 
 /// The interval kernel's values ([`super::parts`]): two blocks per register and block
@@ -174,6 +189,88 @@ fn hypot<I: Isa>(s: I, a: P<I>, b: P<I>) -> (P<I>, I::M) {
     (r, s.or(bad, bad2))
 }
 
+/// The scalar `range_exp` where both bounds lie in `[-EXP_MAX_ARG, EXP_MAX_ARG]`
+/// (elsewhere, and for NaN or reversed bounds, the mask is set): the bounds of the
+/// lanes' `exp` at the ends, which, like the scalar libm values, are widened by
+/// `LIBM_REL` (proven for the lanes' function), the lower one clipped at 0.
+#[inline(always)]
+fn exp<I: Isa>(s: I, (a, b): P<I>) -> (P<I>, I::M) {
+    let lim = s.splat(EXP_MAX_ARG);
+    let inside = |v| s.le(s.abs(v), lim);
+    let good = s.and(s.and(inside(a), inside(b)), s.le(a, b));
+    let lo = s.max(exp_enclosure(s, a).0, s.splat(0.0));
+    ((lo, exp_enclosure(s, b).1), s.not(good))
+}
+
+/// The scalar `range_ln` where the upper bound is a positive normal number and the
+/// lower one is too or is `<= 0` (elsewhere, and for NaN or reversed bounds, the mask is
+/// set): the bounds of the lanes' `ln` at the ends, widened as the scalar libm values
+/// are, `-inf` from a lower bound `<= 0`.
+#[inline(always)]
+fn ln<I: Isa>(s: I, (a, b): P<I>) -> (P<I>, I::M) {
+    let (tiny, huge) = (s.splat(f64::MIN_POSITIVE), s.splat(f64::MAX));
+    let normal = |v| s.and(s.le(tiny, v), s.le(v, huge));
+    let nonpositive = s.le(a, s.splat(0.0));
+    let good = s.and(normal(b), s.and(s.or(nonpositive, normal(a)), s.le(a, b)));
+    let lo = s.select(
+        nonpositive,
+        s.splat(f64::NEG_INFINITY),
+        ln_enclosure(s, a).0,
+    );
+    ((lo, ln_enclosure(s, b).1), s.not(good))
+}
+
+/// Whether `[a, b]` may hold `offset + 2 k pi` for an integer `k`: the scalar
+/// `may_contain` (the quotients widened by `1e-6` periods, then `ceil(u) <= floor(v)`),
+/// its roundings the same, the integer parts through the `1.5 * 2^52` shift (the
+/// quotients are below `2^51`).
+#[inline(always)]
+fn may_contain<I: Isa>(s: I, a: I::V, b: I::V, offset: f64) -> I::M {
+    use core::f64::consts::TAU;
+    const PERIOD_EPS: f64 = 1.0e-6;
+    let (off, period, eps) = (s.splat(offset), s.splat(TAU), s.splat(PERIOD_EPS));
+    let u = s.sub(s.div(s.sub(a, off), period), eps);
+    let v = s.add(s.div(s.sub(b, off), period), eps);
+    let shift = s.splat(6_755_399_441_055_744.0);
+    let near = |x| s.sub(s.add(x, shift), shift);
+    let one = s.splat(1.0);
+    let (nu, nv) = (near(u), near(v));
+    let ceil_u = s.select(s.lt(nu, u), s.add(nu, one), nu);
+    let floor_v = s.select(s.lt(v, nv), s.sub(nv, one), nv);
+    s.le(ceil_u, floor_v)
+}
+
+/// The scalar `range_sin` (`cos`: `range_cos`) where both bounds lie in
+/// `[-TRIG_MAX_ARG, TRIG_MAX_ARG]` (elsewhere, and for NaN or reversed bounds, the mask
+/// is set): `[-1, 1]` from a width of 6.2 on, else the lanes' enclosures at the ends,
+/// and `1` (`-1`) where the scalar test says the interval may hold a maximum (minimum).
+#[inline(always)]
+fn trig<I: Isa>(s: I, (a, b): P<I>, cos: bool) -> (P<I>, I::M) {
+    use core::f64::consts::{FRAC_PI_2, PI};
+    let lim = s.splat(TRIG_MAX_ARG);
+    let inside = |v| s.le(s.abs(v), lim);
+    let good = s.and(s.and(inside(a), inside(b)), s.le(a, b));
+    let (fa, fb) = (trig_enclosure(s, a, cos), trig_enclosure(s, b, cos));
+    let (max_at, min_at) = if cos {
+        (0.0, PI)
+    } else {
+        (FRAC_PI_2, -FRAC_PI_2)
+    };
+    let (one, minus_one) = (s.splat(1.0), s.splat(-1.0));
+    let wide = s.le(s.splat(6.2), s.sub(b, a));
+    let hi = s.select(
+        s.or(wide, may_contain(s, a, b, max_at)),
+        one,
+        s.max(fa.1, fb.1),
+    );
+    let lo = s.select(
+        s.or(wide, may_contain(s, a, b, min_at)),
+        minus_one,
+        s.min(fa.0, fb.0),
+    );
+    ((s.max(lo, minus_one), s.min(hi, one)), s.not(good))
+}
+
 /// `t` where the truth values `c` are 1, `e` where they are 0, the hull where undecided.
 #[inline(always)]
 fn select<I: Isa>(s: I, c: P<I>, t: P<I>, e: P<I>) -> P<I> {
@@ -196,30 +293,26 @@ impl PartOps for Intervals {
 
     #[inline(always)]
     fn instruction<I: Isa>(s: I, at: Step<'_>) {
-        let (i, o, ops, ch, file) = (at.i, at.o, at.ops, at.ch, at.file);
-        let [(a, sa), (b, sb), (e, se)] = ops;
+        let i = at.i;
         let c = i.c;
         let cv = s.splat(c);
         let finite_nonzero = c.is_finite() && c != 0.0;
         let zero = s.splat(0.0);
-        // One block of the result from `f` of the operands' blocks, with the lanes
-        // of its mask redone through the scalar operation.
+        // Each block of the result from `f` of the operands' blocks, with the lanes of
+        // its mask redone through the scalar operation.
         macro_rules! op {
             (|$x:ident, $y:ident, $z:ident| $body:expr) => {
-                for j in 0..ch {
-                    let at = [a + sa * j, b + sb * j, e + se * j];
-                    let ld = |k: usize| (s.load(&file[k]), s.load(&file[k + 1]));
+                at.each::<2>(|out, ops| {
+                    let ld = |k: usize| (s.load(&ops[k][0]), s.load(&ops[k][1]));
                     #[allow(unused_variables)]
-                    let ($x, $y, $z): (P<I>, P<I>, P<I>) = (ld(at[0]), ld(at[1]), ld(at[2]));
+                    let ($x, $y, $z): (P<I>, P<I>, P<I>) = (ld(0), ld(1), ld(2));
                     let ((lo, hi), bad): (P<I>, I::M) = $body;
-                    let (mut lo, mut hi) = (s.store(lo), s.store(hi));
+                    *out = [s.store(lo), s.store(hi)];
                     let bad = s.bits(bad);
                     if bad != 0 {
-                        redo(i, file, at, (&mut lo, &mut hi), bad);
+                        redo(i, ops, out, bad);
                     }
-                    file[o + 2 * j] = lo;
-                    file[o + 2 * j + 1] = hi;
-                }
+                })
             };
         }
         let ok = s.eq(zero, s.splat(1.0));
@@ -232,6 +325,10 @@ impl PartOps for Intervals {
             Op::Powi if i.n == 1 => op!(|x, y, z| (x, ok)),
             Op::Powi if i.n >= 2 => op!(|x, y, z| (powi_pos(s, x, i.n as u32), ok)),
             Op::Sqrt => op!(|x, y, z| sqrt(s, x)),
+            Op::Exp => op!(|x, y, z| exp(s, x)),
+            Op::Ln => op!(|x, y, z| ln(s, x)),
+            Op::Sin => op!(|x, y, z| trig(s, x, false)),
+            Op::Cos => op!(|x, y, z| trig(s, x, true)),
             Op::Abs => op!(|x, y, z| (mig_mag(s, x), ok)),
             Op::Recip => op!(|x, y, z| (rdiv(s, s.splat(1.0), x), ok)),
             Op::AddC if !c.is_nan() => op!(|x, y, z| add(s, x, (cv, cv))),
@@ -292,19 +389,19 @@ impl PartOps for Intervals {
 }
 
 /// Redoes the lanes of `bad` of one block through the scalar operation, from the
-/// operands' blocks at `at` (not yet overwritten: the result is written after this).
+/// operands' blocks `ops`.
 #[cold]
 #[inline(never)]
-fn redo(i: &Instr, file: &[F64x8], at: [usize; 3], out: (&mut F64x8, &mut F64x8), bad: u8) {
+fn redo(i: &Instr, ops: [&[F64x8; 2]; 3], out: &mut [F64x8; 2], bad: u8) {
     for l in 0..LANES {
         if bad & (1 << l) != 0 {
             let v = |k: usize| Interval {
-                lo: file[at[k]].0[l],
-                hi: file[at[k] + 1].0[l],
+                lo: ops[k][0].0[l],
+                hi: ops[k][1].0[l],
             };
             let r = apply(i, v(0), v(1), v(2));
-            out.0 .0[l] = r.lo;
-            out.1 .0[l] = r.hi;
+            out[0].0[l] = r.lo;
+            out[1].0[l] = r.hi;
         }
     }
 }

@@ -40,23 +40,22 @@ impl PartOps for Points {
 
     #[inline(always)]
     fn instruction<I: Isa>(s: I, at: Step<'_>) {
-        let (i, o, ops, ch, file) = (at.i, at.o, at.ops, at.ch, at.file);
-        let [(a, sa), (b, sb), (e, se)] = ops;
+        let i = at.i;
         let c = s.splat(i.c);
         macro_rules! un {
             (|$x:ident| $body:expr) => {
-                for j in 0..ch {
-                    let $x = s.load(&file[a + sa * j]);
-                    file[o + j] = s.store($body);
-                }
+                at.each::<1>(|[o], [[x], _, _]| {
+                    let $x = s.load(x);
+                    *o = s.store($body);
+                })
             };
         }
         macro_rules! bin {
             (|$x:ident, $y:ident| $body:expr) => {
-                for j in 0..ch {
-                    let ($x, $y) = (s.load(&file[a + sa * j]), s.load(&file[b + sb * j]));
-                    file[o + j] = s.store($body);
-                }
+                at.each::<1>(|[o], [[x], [y], _]| {
+                    let ($x, $y) = (s.load(x), s.load(y));
+                    *o = s.store($body);
+                })
             };
         }
         match i.op {
@@ -91,20 +90,15 @@ impl PartOps for Points {
             }
             Op::Select => {
                 let half = s.splat(0.5);
-                for j in 0..ch {
-                    let m = s.lt(half, s.load(&file[a + sa * j]));
-                    let (t, f) = (s.load(&file[b + sb * j]), s.load(&file[e + se * j]));
-                    file[o + j] = s.store(s.select(m, t, f));
-                }
+                at.each::<1>(|[o], [[m], [t], [f]]| {
+                    let m = s.lt(half, s.load(m));
+                    *o = s.store(s.select(m, s.load(t), s.load(f)));
+                })
             }
             // Lane by lane through the scalar operation.
-            _ => {
-                for j in 0..ch {
-                    let (x, y, z) = (file[a + sa * j], file[b + sb * j], file[e + se * j]);
-                    let r = core::array::from_fn(|l| apply(i, x.0[l], y.0[l], z.0[l]));
-                    file[o + j] = F64x8(r);
-                }
-            }
+            _ => at.each::<1>(|[o], [[x], [y], [z]]| {
+                *o = F64x8(core::array::from_fn(|l| apply(i, x.0[l], y.0[l], z.0[l])));
+            }),
         }
     }
 }

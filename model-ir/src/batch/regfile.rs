@@ -1,13 +1,13 @@
 //! The flat register file of the batch kernels: every register of a tape mapped to a
 //! slot, a slot reused once its register is read for the last time ([`Instr::last`]),
-//! and one buffer of eight-lane blocks per thread holding every slot's lanes (structure
-//! of arrays), grown to the largest tape and batch seen and reused, so that a batch
+//! and one buffer of eight-lane blocks per thread holding every slot's lanes of a pass
+//! over the batch (structure of arrays), grown to the largest tape and batch seen and reused, so that a batch
 //! allocates nothing once the thread has warmed up.
 //!
-//! An instruction's result may take the slot of an operand read for the last time: the
-//! kernels read each block of their operands before they write that block. A constant's
-//! register holds one block (the same value in every lane), read for every block of its
-//! readers, so no reader's result takes a constant's slot.
+//! An instruction's result never takes the slot of one of its operands, even one read
+//! for the last time: the kernels read operands and write results as distinct slices.
+//! A constant's register holds one block (the same value in every lane), repeated over
+//! a scratch slot for each reader.
 
 use crate::instr::{Instr, Op};
 use arith_core::lanes::F64x8;
@@ -20,6 +20,20 @@ pub struct Slots {
     pub(crate) slot: Vec<u32>,
     /// How many slots the tape needs at once.
     pub(crate) count: usize,
+    /// Each instruction's slots, read by the kernels' walk.
+    pub(crate) places: Vec<Places>,
+}
+
+/// The slots one instruction writes and reads.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Places {
+    /// The result's slot.
+    pub(crate) out: u32,
+    /// The operands' slots (an operand the instruction does not read: the first
+    /// operand's, or the result's where it reads none).
+    pub(crate) ops: [u32; 3],
+    /// Bit `k`: operand `k` (as `ops` names it) is a constant.
+    pub(crate) consts: u8,
 }
 
 impl Slots {
@@ -29,19 +43,13 @@ impl Slots {
         let mut free: Vec<u32> = Vec::new();
         let mut count = 0u32;
         for i in ins {
-            // A constant's slot is freed after the result's is taken: a constant holds
-            // one block that every block of the result reads, so the result must not
-            // overwrite it.
+            // The operands' slots are freed after the result's is taken: a result
+            // never shares storage with its operands (the kernels write it while they
+            // read them), and a constant's one block is read for every block of it.
             let mut late = [None; 3];
             for &k in i.operands() {
                 if i.last & (1 << k) != 0 {
-                    let r = i.reg(k) as usize;
-                    let s = slot[r];
-                    if ins[r].op == Op::Const {
-                        late[k] = Some(s);
-                    } else if !free.contains(&s) {
-                        free.push(s);
-                    }
+                    late[k] = Some(slot[i.reg(k) as usize]);
                 }
             }
             let s = free.pop().unwrap_or_else(|| {
@@ -55,9 +63,32 @@ impl Slots {
                 }
             }
         }
+        let places = ins
+            .iter()
+            .zip(&slot)
+            .map(|(i, &out)| {
+                let arity = i.operands().len();
+                let mut p = Places {
+                    out,
+                    ops: [out; 3],
+                    consts: 0,
+                };
+                if arity > 0 {
+                    for q in 0..3 {
+                        let r = i.reg(q.min(arity - 1)) as usize;
+                        p.ops[q] = slot[r];
+                        if ins[r].op == Op::Const {
+                            p.consts |= 1 << q;
+                        }
+                    }
+                }
+                p
+            })
+            .collect();
         Slots {
             slot,
             count: count as usize,
+            places,
         }
     }
 }
@@ -152,11 +183,11 @@ mod tests {
                 last[i.reg(o) as usize] = k;
             }
         }
-        // A register read after instruction k keeps its slot to itself at k.
+        // A register read at or after instruction k keeps its slot to itself at k.
         for k in 0..ins.len() {
             for (r, &l) in last.iter().enumerate().take(k) {
                 assert!(
-                    l <= k || s.slot[r] != s.slot[k],
+                    l < k || s.slot[r] != s.slot[k],
                     "r{k} takes the slot of r{r}, still read at r{l}"
                 );
             }

@@ -305,19 +305,16 @@ impl<const N: usize> PartOps for Forms<N> {
     /// are redone from the operands' blocks before the result is written.
     #[inline(always)]
     fn instruction<I: Isa>(s: I, at: Step<'_>) {
-        let (i, o, ops, ch, file) = (at.i, at.o, at.ops, at.ch, at.file);
+        let (i, ops, ch, res) = (at.i, at.ops, at.ch, at.out);
         let c = s.splat(i.c);
-        let at = |k: usize, j: usize| ops[k].0 + ops[k].1 * j;
         let none = s.lt(c, c);
         let all = s.not(none);
         macro_rules! op {
             (|$x:ident, $y:ident| $body:expr) => {
                 for j in 0..ch {
+                    let at = (N + 2) * j;
                     #[allow(unused_variables)]
-                    let ($x, $y) = (
-                        load::<I, N>(s, file, at(0, j)),
-                        load::<I, N>(s, file, at(1, j)),
-                    );
+                    let ($x, $y) = (load::<I, N>(s, ops[0], at), load::<I, N>(s, ops[1], at));
                     let (r, redo): (Form<I, N>, I::M) = $body;
                     let mut out = [F64x8::default(); MAX_PARTS];
                     out[0] = s.store(r.x0);
@@ -327,9 +324,9 @@ impl<const N: usize> PartOps for Forms<N> {
                     out[N + 1] = s.store(r.e);
                     let redo = s.bits(redo);
                     if redo != 0 {
-                        scalar::<N>(i, file, [at(0, j), at(1, j), at(2, j)], &mut out, redo);
+                        scalar::<N>(i, ops, at, &mut out, redo);
                     }
-                    file[o + (N + 2) * j..o + (N + 2) * (j + 1)].copy_from_slice(&out[..N + 2]);
+                    res[at..at + N + 2].copy_from_slice(&out[..N + 2]);
                 }
             };
         }
@@ -361,15 +358,15 @@ impl<const N: usize> PartOps for Forms<N> {
 #[inline(never)]
 fn scalar<const N: usize>(
     i: &Instr,
-    file: &[F64x8],
-    at: [usize; 3],
+    ops: [&[F64x8]; 3],
+    at: usize,
     out: &mut [F64x8; MAX_PARTS],
     redo: u8,
 ) {
     for l in 0..LANES {
         if redo & (1 << l) != 0 {
             let v = |k: usize| {
-                let p = &file[at[k]..at[k] + N + 2];
+                let p = &ops[k][at..at + N + 2];
                 RevAa::<N>::from_parts(
                     p[0].0[l],
                     core::array::from_fn(|j| p[1 + j].0[l]),

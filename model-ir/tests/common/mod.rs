@@ -3,7 +3,8 @@
 
 #![allow(dead_code)] // each test binary uses part of it
 
-use arith_core::lanes::Path;
+use arith_core::lanes::{Path, TRIG_ABS};
+use arith_core::testkit::expr::{Expr, Un};
 use model_ir::{Builder, Instr, Op, Tape, Val};
 use proptest::prelude::*;
 
@@ -104,4 +105,33 @@ pub fn random_tape(ds: &[Draw]) -> Tape {
     let k = regs.len();
     let sum = b.emit(Instr::new(Op::Add, regs[k - 1], regs[k / 2], 0, 0.0));
     b.finish(Val::R(sum))
+}
+
+/// Whether `e` applies `exp`, `ln`, `sin` or `cos`, whose lanes' enclosures are not
+/// the scalar bits.
+pub fn has_elementary(e: &Expr) -> bool {
+    match e {
+        Expr::Input(_) | Expr::Const(_) => false,
+        Expr::Unary(op, a) => {
+            matches!(op, Un::Exp | Un::Ln | Un::Sin | Un::Cos) || has_elementary(a)
+        }
+        Expr::Binary(_, a, b) => has_elementary(a) || has_elementary(b),
+    }
+}
+
+/// The batched bounds of an expression with `exp`, `ln`, `sin` or `cos` against the
+/// scalar ones: both enclose the exact range, so they overlap, and as the lanes'
+/// functions differ from libm's by a few ulp under the same margin (without the
+/// scalar's extra ulp outward; `sin` and `cos` add `TRIG_ABS`), the batched range is at
+/// most twice as wide as the scalar one, plus `2^-30` of the scalar bounds' magnitude
+/// and a few `TRIG_ABS` (also for RevAA on the AVX2 path). How far apart the
+/// bounds may lie after a cancellation depends on the expression; the functions
+/// themselves are checked against the reference in `tests/elementary.rs`.
+pub fn close(batched: (f64, f64), scalar: (f64, f64)) -> bool {
+    let width = |(lo, hi): (f64, f64)| hi - lo;
+    let size = scalar.0.abs().max(scalar.1.abs());
+    let overlap = batched.0 <= scalar.1 && scalar.0 <= batched.1;
+    let narrow = !width(scalar).is_finite()
+        || width(batched) <= 2.0 * width(scalar) + 2f64.powi(-30) * size + 4.0 * TRIG_ABS;
+    overlap && narrow
 }
