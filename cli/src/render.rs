@@ -43,10 +43,12 @@ pub struct RenderArgs {
     #[arg(long, allow_hyphen_values = true)]
     pub eps: Option<String>,
     /// How each pixel's first root is searched for: slabs (image tiles by depth slabs,
-    /// each one interval evaluation, down to Algorithm 1 on short pieces of the rays;
-    /// the fastest) or paper (Algorithm 2's cell culling, then Algorithm 1 on each ray,
-    /// as the revised-affine paper; for its counts). Both find the same first roots.
-    #[arg(long, default_value = "slabs", allow_hyphen_values = true)]
+    /// each one interval evaluation, down to Algorithm 1 on short pieces of the rays),
+    /// paper (Algorithm 2's cell culling, then Algorithm 1 on each ray, as the
+    /// revised-affine paper; for its counts), or auto (slabs for formula, .vm and
+    /// HyperFun models, whose tapes specialise; paper for the built-in models). Both
+    /// find the same first roots.
+    #[arg(long, default_value = "auto", allow_hyphen_values = true)]
     pub search: String,
     /// Disable cell culling (Algorithm 2, with --search paper).
     #[arg(long)]
@@ -207,6 +209,7 @@ pub fn run_render(a: &RenderArgs) -> Result<(), String> {
         render_kind(kind, &model.shape, &opts)?
     };
     let arith_name = if auto && !gpu { "auto" } else { kind.name() };
+    let search = search.resolve(&model.shape, opts.specialise);
     let res = if a.aa > 1 {
         downsample_render(&res, width, height, &Filter::new(kernel, a.aa))
     } else {

@@ -733,7 +733,8 @@ fn stats_as_json() {
         "\"width\": 16",
         "\"height\": 12",
         "\"arith\": \"auto\"",
-        "\"search\": \"slabs\"",
+        // A ball's tape has nothing to specialise: the default search is the paper's.
+        "\"search\": \"paper\"",
         "\"wall_s\": ",
         "\"rays\": ",
         "\"shadow_rays\": ",
@@ -770,7 +771,7 @@ fn stats_as_json() {
     );
     assert_user_error(
         &["render", "csg", "--size", "8x8", "--search", "fast"],
-        "--search: unknown search 'fast' (slabs or paper)",
+        "--search: unknown search 'fast' (auto, slabs or paper)",
     );
 }
 

@@ -46,9 +46,10 @@ type RenderArrays<'py> = (
 /// part of it; ``arith`` (``"auto"``: ``revaa``, hits it cannot confirm searched again in ``hull``; or
 /// ``ia``, ``aa``, ``raa``, ``revaa``, ``hull``); ``domain`` (the box rays are clipped
 /// to; default the shape's); ``eps`` (the precision of roots along rays; default a
-/// quarter pixel); ``search`` (``"slabs"``: image tiles by depth slabs, the fastest;
-/// ``"paper"``: Algorithm 2's culling then Algorithm 1 per ray, as the revised-affine
-/// paper; both find the same first roots); ``culling`` (with ``search="paper"``),
+/// quarter pixel); ``search`` (``"slabs"``: image tiles by depth slabs; ``"paper"``:
+/// Algorithm 2's culling then Algorithm 1 per ray, as the revised-affine paper;
+/// ``"auto"``: slabs for shapes whose tapes specialise, else paper; all find the same
+/// first roots, ``stats["search"]`` says which ran); ``culling`` (with ``search="paper"``),
 /// ``pruning``, ``specialise``, ``shadows``; ``aa`` (N x N
 /// rays per pixel, filtered by ``filter``: ``box``, ``tent``, ``quadratic``,
 /// ``cubic``); ``threads`` (default: one per core); ``progress`` (``True`` for a line
@@ -63,11 +64,11 @@ type RenderArrays<'py> = (
 #[pyfunction]
 #[pyo3(signature = (
     shape, size=(640, 480), camera=None, arith="auto", *, eye=None, look_at=None, up=None,
-    fov=None, ortho=None, domain=None, eps=None, search="slabs", culling=true, pruning=true,
+    fov=None, ortho=None, domain=None, eps=None, search="auto", culling=true, pruning=true,
     specialise=true, shadows=false, aa=1, filter="quadratic", threads=None,
     progress=None, device="cpu"
 ), text_signature = "(shape, size=(640, 480), camera=None, arith='auto', *, eye=None, \
-    look_at=None, up=None, fov=None, ortho=None, domain=None, eps=None, search='slabs', \
+    look_at=None, up=None, fov=None, ortho=None, domain=None, eps=None, search='auto', \
     culling=True, \
     pruning=True, specialise=True, shadows=False, aa=1, filter='quadratic', threads=None, \
     progress=None, device='cpu')")]
@@ -151,7 +152,8 @@ pub fn render<'py>(
         plan.trace(model, cancel, counter)
     })?
     .map_err(|e| value_error("render", e))?;
-    let run = (plan.kind.map_or("auto", |k| k.name()), plan.opts.search);
+    let search = plan.opts.search.resolve(model, plan.opts.specialise);
+    let run = (plan.kind.map_or("auto", |k| k.name()), search);
     let stats = stats_dict(py, &res.stats, run)?;
     warn_unconfirmed(py, &res.stats)?;
     let (rgb, depth) = arrays(py, res)?;

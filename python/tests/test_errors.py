@@ -82,7 +82,7 @@ def test_unknown_arithmetic():
 
 
 def test_unknown_search():
-    with pytest.raises(ValueError, match="search.*unknown search 'xyz'.*slabs or paper"):
+    with pytest.raises(ValueError, match="search.*unknown search 'xyz'.*auto, slabs or paper"):
         tracer.render(BALL, size=(8, 8), search="xyz")
 
 

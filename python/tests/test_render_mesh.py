@@ -62,6 +62,17 @@ def test_sphere_depth_is_analytic(arith, search):
     assert (rgb[~np.isfinite(depth)] == rgb[0, 0]).all()  # background
 
 
+def test_default_search_follows_specialisation():
+    # Eight balls in a row under max: a tape long enough to specialise.
+    balls = "0.04 - (x + 0.7)^2 - y^2 - z^2"
+    for k in range(1, 8):
+        balls = f"max({balls}, 0.04 - (x - {0.2 * k - 0.7:.1f})^2 - y^2 - z^2)"
+    _, _, stats = tracer.render(tracer.Shape(balls), size=(16, 12))
+    assert stats["search"] == "slabs"
+    _, _, stats = tracer.render(tracer.Shape(balls), size=(16, 12), specialise=False)
+    assert stats["search"] == "paper"
+
+
 def test_render_options():
     shape = tracer.Shape("1 - x^2 - y^2 - z^2")
     calls = []

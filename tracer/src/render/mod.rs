@@ -97,6 +97,17 @@ pub(crate) fn render_tiles<S: Shape>(
 ) -> Result<RenderResult, String> {
     let start = Instant::now();
     let cam = checked_camera(opts)?;
+    let resolved;
+    let opts = if opts.search == Search::Auto {
+        let search = opts.search.resolve(shape, opts.specialise);
+        resolved = RenderOptions {
+            search,
+            ..opts.clone()
+        };
+        &resolved
+    } else {
+        opts
+    };
     let dom = opts.domain;
     let precision = opts.precision(&cam);
     let params = RayParams {

@@ -53,14 +53,22 @@ pub struct RenderOptions {
     pub search: Search,
 }
 
-/// How the renderer searches for each pixel's first root. Both are sound and find the
-/// same first roots within the precision.
+/// How the renderer searches for each pixel's first root. Both searches are sound and
+/// find the same first roots within the precision.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Search {
+    /// [`Search::Slabs`] for a shape that specialises (formula, `.vm` and HyperFun
+    /// tapes, with specialisation on), [`Search::Paper`] otherwise: the slab search
+    /// gains by specialising every tile-slab (0.3-0.6 times the paper's CPU time on
+    /// fidget's models and scenes of many primitives, in orthographic and perspective
+    /// views), the paper's narrows the cells of a shape that does not with frustum
+    /// forms in the render's arithmetic (0.5 times the slab search's on the built-in
+    /// Mitchell and the other Appendix A models; `docs/slab-search.md`).
+    #[default]
+    Auto,
     /// Image tiles by depth slabs, each tile-slab one interval evaluation in a batch,
     /// down to Algorithm 1 on each ray's piece in a leaf's slab
-    /// ([`crate::search::slabs`]): the fastest.
-    #[default]
+    /// ([`crate::search::slabs`]).
     Slabs,
     /// The revised-affine paper's: Algorithm 2's cell culling in the arithmetic's cell
     /// form ([`crate::search::cull`], only with [`RenderOptions::culling`]), then
@@ -73,17 +81,29 @@ impl std::str::FromStr for Search {
 
     fn from_str(s: &str) -> Result<Self, String> {
         match s {
+            "auto" => Ok(Search::Auto),
             "slabs" => Ok(Search::Slabs),
             "paper" => Ok(Search::Paper),
-            _ => Err(format!("unknown search '{s}' (slabs or paper)")),
+            _ => Err(format!("unknown search '{s}' (auto, slabs or paper)")),
         }
     }
 }
 
 impl Search {
+    /// The search a render of `shape` runs: this one, [`Search::Auto`] resolved
+    /// (`specialise`: whether the render specialises, [`RenderOptions::specialise`]).
+    pub fn resolve<S: model_ir::shape::Shape>(self, shape: &S, specialise: bool) -> Search {
+        match self {
+            Search::Auto if specialise && shape.specialises() => Search::Slabs,
+            Search::Auto => Search::Paper,
+            s => s,
+        }
+    }
+
     /// Its name on the command line and in `--stats json`.
     pub fn name(self) -> &'static str {
         match self {
+            Search::Auto => "auto",
             Search::Slabs => "slabs",
             Search::Paper => "paper",
         }

@@ -84,3 +84,21 @@ fn slab_and_paper_searches_agree_in_ia_and_hull() {
         check(m, ArithKind::Hull, (24, 18));
     }
 }
+
+/// The default search is the slab search for a tape that specialises and the paper's
+/// for one that does not (or with specialisation off).
+#[test]
+fn auto_search_follows_specialisation() {
+    use model_ir::Tape;
+    let balls = Tape::record(|x, y, z| {
+        let ball = |c: f64| ((x.clone() - c).sqr() + y.sqr() + z.sqr()).rsub(0.25);
+        ball(0.0).max(&ball(0.5)).max(&ball(1.0).max(&ball(-0.5)))
+    });
+    let one = Tape::record(|x, y, z| (x.sqr() + y.sqr() + z.sqr()).rsub(1.0));
+    assert!(balls.specialises() && !one.specialises());
+    assert_eq!(Search::Auto.resolve(&balls, true), Search::Slabs);
+    assert_eq!(Search::Auto.resolve(&balls, false), Search::Paper);
+    assert_eq!(Search::Auto.resolve(&one, true), Search::Paper);
+    assert_eq!(Search::Paper.resolve(&balls, true), Search::Paper);
+    assert_eq!(Search::Slabs.resolve(&one, true), Search::Slabs);
+}
