@@ -31,14 +31,14 @@ ALL=$(echo "$ROWS" | awk '{print $1}' | tr '\n' ' ')
 MODELS=${MODELS:-$ALL}
 ROUNDS=${ROUNDS:-3}
 ARITH=${ARITH:-auto}
-SEARCH=${SEARCH:-slabs}
+SEARCH=${SEARCH:-auto}
 DOC=${DOC-docs/table1-paper.md}
 [ -n "${ROUNDS##*[!0-9]*}" ] && [ "$ROUNDS" -ge 1 ] || { echo "error: ROUNDS '$ROUNDS' is not a whole number above 0" >&2; exit 2; }
 case "$ARITH" in auto|ia|aa|raa|revaa|hull) ;;
     *) echo "error: ARITH '$ARITH' is not auto, ia, aa, raa, revaa or hull" >&2; exit 2 ;;
 esac
-case "$SEARCH" in slabs|paper) ;;
-    *) echo "error: SEARCH '$SEARCH' is not slabs or paper" >&2; exit 2 ;;
+case "$SEARCH" in auto|slabs|paper) ;;
+    *) echo "error: SEARCH '$SEARCH' is not auto, slabs or paper" >&2; exit 2 ;;
 esac
 for m in $MODELS; do
     echo "$ROWS" | awk -v m="$m" '$1 == m {f = 1} END {exit !f}' \

@@ -103,6 +103,9 @@ pub struct HitGroup {
     pub parent: usize,
 }
 
+/// What a [`Search`] is generic over without holding it: its arithmetic and shape.
+type Marker<A, S> = core::marker::PhantomData<(A, fn(&S))>;
+
 /// One image tile's search in progress.
 struct Search<'a, A: Arithmetic, S> {
     culler: &'a Culler,
@@ -134,7 +137,7 @@ struct Search<'a, A: Arithmetic, S> {
     cell_out: Vec<Option<A::Cell>>,
     cell_tries: u64,
     cell_wins: u64,
-    _arith: core::marker::PhantomData<(A, fn(&S))>,
+    _arith: Marker<A, S>,
 }
 
 /// The tile-slabs of one visit: their sub-tile and slab, and the boxes' sides.

@@ -89,9 +89,10 @@ fn slab_and_paper_searches_agree_in_ia_and_hull() {
 /// for one that does not (or with specialisation off).
 #[test]
 fn auto_search_follows_specialisation() {
+    use arith_core::Real;
     use model_ir::Tape;
     let balls = Tape::record(|x, y, z| {
-        let ball = |c: f64| ((x.clone() - c).sqr() + y.sqr() + z.sqr()).rsub(0.25);
+        let ball = |c: f64| ((x - c).sqr() + y.sqr() + z.sqr()).rsub(0.25);
         ball(0.0).max(&ball(0.5)).max(&ball(1.0).max(&ball(-0.5)))
     });
     let one = Tape::record(|x, y, z| (x.sqr() + y.sqr() + z.sqr()).rsub(1.0));
