@@ -786,7 +786,7 @@ fn paper_search_gives_the_same_hits() {
             "--expr",
             "1 - x^2 - y^2 - z^2",
             "--size",
-            "24x18",
+            "64x48",
             "--quiet",
             "--stats",
             "json",

@@ -2,16 +2,16 @@
 //! of one tile-slab share one shape with the whole shape's values around them
 //! ([`Shape::specialise_values`] over the tile-slab's box widened by the samples' step,
 //! from the value shape of the image tile's slab it lies in, itself from the whole
-//! shape), on which the six samples of all of them ([`shade::samples`]: the normal and
-//! the sign check) are evaluated in one batch, then lit ([`shade::shade`]) with
+//! shape), on which the six samples of all of them ([`super::shade::samples`]: the normal and
+//! the sign check) are evaluated in one batch, then lit ([`super::shade::shade`]) with
 //! optional shadow rays.
 //!
 //! A value shape holds only in its box: a hit whose samples leave the group's box
 //! (never, unless rounding put the hit a margin outside its tile-slab) is sampled on
 //! the whole shape.
 
-use super::shade::{self, Samples};
-use super::shade_hits::{shadowed, SHADING_STEP};
+use super::shade::Samples;
+use super::shade_hits::{write_hit, SHADING_STEP};
 use super::tile_shapes::ranges;
 use super::types::{TileCtx, TileOut};
 use crate::search::slabs::SlabTile;
@@ -71,17 +71,8 @@ pub(super) fn shade_groups<A: Arithmetic, S: Shape>(
             values.extend(samples.values(root, at.iter().copied()));
         }
         for ((&(job, d), &(p, step)), s) in hits.iter().zip(&at).zip(&values) {
-            let r = &t.jobs[job];
-            let k = t.pixel_of[job];
-            out.depth[k] = d as f32;
-            let (n, confirmed) = shade::normal_of_samples(s);
-            if !confirmed {
-                out.stats.unconfirmed += 1;
-                out.unconfirmed_rays.push(job);
-            }
-            let dark = ctx.opts.shadows && shadowed::<A, S>(ctx, p, n, step, &mut out.stats);
-            let c = shade::shade(n, r.d, ctx.light, &ctx.opts.material, dark);
-            out.rgb[k * 3..k * 3 + 3].copy_from_slice(&c);
+            let ray = (job, t.pixel_of[job], t.jobs[job].d);
+            write_hit::<A, S>(ctx, ray, (d, p, step), s, out);
         }
     }
 }

@@ -277,18 +277,31 @@ impl<'a, S: Shape> Shader<'a, S> {
         s: &[f64; 6],
         out: &mut TileOut,
     ) {
-        let ctx = self.ctx;
         let (k, d) = (self.rays.pixel_of[ray], self.rays.jobs[ray].d);
-        out.depth[k] = t as f32;
-        let (n, confirmed) = shade::normal_of_samples(s);
-        if !confirmed {
-            out.stats.unconfirmed += 1;
-            out.unconfirmed_rays.push(ray);
-        }
-        let in_shadow = ctx.opts.shadows && shadowed::<A, S>(ctx, p, n, step, &mut out.stats);
-        let c = shade::shade(n, d, ctx.light, &ctx.opts.material, in_shadow);
-        out.rgb[k * 3..k * 3 + 3].copy_from_slice(&c);
+        write_hit::<A, S>(self.ctx, (ray, k, d), (t, p, step), s, out);
     }
+}
+
+/// Lights one hit from the values `s` of its samples and writes its pixel `k`: the ray
+/// `ray` (direction `d`) meets the surface at distance `t`, at `p`, sampled with step
+/// `step`. A hit whose samples hold no sign change is counted unconfirmed and its ray
+/// noted in `out`.
+pub(super) fn write_hit<A: Arithmetic, S: Shape>(
+    ctx: &TileCtx<'_, S>,
+    (ray, k, d): (usize, usize, DVec3),
+    (t, p, step): (f64, DVec3, f64),
+    s: &[f64; 6],
+    out: &mut TileOut,
+) {
+    out.depth[k] = t as f32;
+    let (n, confirmed) = shade::normal_of_samples(s);
+    if !confirmed {
+        out.stats.unconfirmed += 1;
+        out.unconfirmed_rays.push(ray);
+    }
+    let in_shadow = ctx.opts.shadows && shadowed::<A, S>(ctx, p, n, step, &mut out.stats);
+    let c = shade::shade(n, d, ctx.light, &ctx.opts.material, in_shadow);
+    out.rgb[k * 3..k * 3 + 3].copy_from_slice(&c);
 }
 
 /// The level for the tile's folded value shapes: [`LEVEL_MARGIN`] times the largest
