@@ -1,6 +1,8 @@
 """Batched evaluation from numpy: eval_boxes encloses eval at points inside each box, in
 every arithmetic, for formulas and built-in models; the batches agree with the scalar
-paths bit for bit."""
+paths bit for bit, except intervals through exp, ln, sin and cos, which the batch
+computes in SIMD lanes with their own proven error bounds: there both are enclosures,
+so they overlap, and the batch's is at most twice as wide as the scalar one."""
 
 import numpy as np
 import pytest
@@ -60,11 +62,18 @@ def test_boxes_enclose_the_points_inside(name, shape, arith):
 def test_batches_are_the_scalar_paths(name, shape):
     rng = np.random.default_rng(3)
     lo, hi = random_boxes(rng, shape, 40)
+    lanes = any(f in name for f in ("exp", "ln", "sin", "cos"))
     for arith in tracer.arithmetics():
         b = shape.eval_boxes(lo, hi, arith=arith)
         for k in range(0, 40, 7):
             box = (tuple(lo[k]), tuple(hi[k]))
-            assert tuple(b[k]) == shape.range(box, arith=arith)
+            (blo, bhi), (slo, shi) = tuple(b[k]), shape.range(box, arith=arith)
+            if arith == "ia" and lanes:
+                assert blo <= shi and slo <= bhi, (box, (blo, bhi), (slo, shi))
+                slack = 4 * np.spacing(max(abs(slo), abs(shi)))
+                assert bhi - blo <= 2 * (shi - slo) + slack, (box, (blo, bhi), (slo, shi))
+            else:
+                assert (blo, bhi) == (slo, shi)
     pts = lo + (hi - lo) * rng.random((40, 3))
     v = shape.eval(pts)
     for k in range(40):
