@@ -312,15 +312,8 @@ fn slab_tile<A: Arithmetic, S: Shape>(
         None,
         stop,
     );
-    let st = &mut out.stats;
-    st.rays += t.jobs.len() as u64;
-    st.range_evals += t.rays.range_evals;
-    st.range_ops += t.rays.range_ops;
-    st.pruned_empty += t.rays.pruned_empty;
-    st.point_evals += t.rays.point_evals;
-    st.hits += t.hits.len() as u64;
-    st.range_evals_hit += t.hit_evals;
-    out.cut |= t.cut;
+    out.stats.rays += t.jobs.len() as u64;
+    count_slab_search(&t, &mut out);
     shade_groups::shade_groups::<A, S>(ctx, &t, &mut out);
     let rays = TileRays {
         traced: t.jobs.len() as u64,
@@ -371,10 +364,7 @@ pub(crate) fn search_rays<A: Arithmetic, S: Shape>(
     let mut hits: Vec<(usize, f64)> = Vec::new();
     let st = &mut out.stats;
     let all = first_roots_until::<A, S>(shape, &windows, ctx.params, jobs, stop, |ray, hit, rs| {
-        st.range_evals += rs.range_evals;
-        st.range_ops += rs.range_ops;
-        st.pruned_empty += rs.pruned_empty;
-        st.point_evals += rs.point_evals;
+        st.add_rays(&rs);
         if let Some(t) = hit {
             st.hits += 1;
             st.range_evals_hit += rs.range_evals;
@@ -419,21 +409,24 @@ pub(crate) fn search_again<A: Arithmetic, S: Shape>(
         Some(&pixels),
         stop,
     );
-    let st = &mut out.stats;
-    st.range_evals += t.rays.range_evals;
-    st.range_ops += t.rays.range_ops + t.cells.cell_ops;
-    st.cell_evals += t.cells.cells_tested + t.cells.cells_specialised;
-    st.pruned_empty += t.rays.pruned_empty;
-    st.point_evals += t.rays.point_evals;
-    st.hits += t.hits.len() as u64;
-    st.range_evals_hit += t.hit_evals;
-    out.cut |= t.cut;
+    out.stats.range_ops += t.cells.cell_ops;
+    out.stats.cell_evals += t.cells.cells_tested + t.cells.cells_specialised;
+    count_slab_search(&t, out);
     let ray_of: std::collections::HashMap<usize, usize> =
         again.iter().map(|&r| (rays.pixel_of[r], r)).collect();
     t.hits
         .iter()
         .map(|&(job, d)| (ray_of[&t.pixel_of[job]], d))
         .collect()
+}
+
+/// Adds a slab search's ray counters and hits to `out` (cut where it was).
+fn count_slab_search(t: &slabs::SlabTile, out: &mut TileOut) {
+    let st = &mut out.stats;
+    st.add_rays(&t.rays);
+    st.hits += t.hits.len() as u64;
+    st.range_evals_hit += t.hit_evals;
+    out.cut |= t.cut;
 }
 
 /// Adds the culling counters and the fine depth windows the rays built to `out`.

@@ -4,7 +4,7 @@
 
 use crate::render::shade::{self, Light, Material};
 use crate::search::cull::Culler;
-use crate::search::ray::{Precision, RayParams};
+use crate::search::ray::{Precision, RayParams, RayStats};
 use model_ir::camera::Camera;
 use model_ir::shape::{Aabb, View};
 use model_sources::Model;
@@ -205,6 +205,15 @@ pub struct RenderStats {
 }
 
 impl RenderStats {
+    /// Adds a ray search's counters (evaluations, instructions, pruned segments, point
+    /// evaluations); hits are counted by the caller.
+    pub(crate) fn add_rays(&mut self, r: &RayStats) {
+        self.range_evals += r.range_evals;
+        self.range_ops += r.range_ops;
+        self.pruned_empty += r.pruned_empty;
+        self.point_evals += r.point_evals;
+    }
+
     /// Every counter under its field name (in `--stats json` and Python's stats), in
     /// this order; the wall time and `cut` are not counters.
     pub fn counters(&self) -> [(&'static str, u64); 17] {
