@@ -414,6 +414,31 @@ impl Tape {
         );
     }
 
+    /// [`Tape::eval_batch`] over boxes on the current lane path (the same bits), the
+    /// registers that `watch` maps to a place also copied to `seen` as
+    /// [`Tape::watched_intervals`] lays them out (`2 * (w * chunks + l / LANES)` holds
+    /// lane `l`'s lower bounds of place `w`, the next its upper bounds; `seen` has room
+    /// for every place and chunk).
+    pub(crate) fn eval_boxes_watched(
+        &self,
+        [x, y, z]: [&[Interval]; 3],
+        out: &mut Vec<Interval>,
+        (watch, seen): (&[u32], &mut [F64x8]),
+    ) {
+        out.clear();
+        if x.is_empty() {
+            return;
+        }
+        let src = [x, y, z];
+        self.watched_parts::<intervals::Intervals>(
+            Path::current(),
+            x.len(),
+            |q, l, p| p.copy_from_slice(&[src[q][l].lo, src[q][l].hi]),
+            |_, p| out.push(Interval { lo: p[0], hi: p[1] }),
+            (watch, seen),
+        );
+    }
+
     /// The interval bounds over `n` boxes (box `l`'s side `q` is `lane(q, l)`) of the
     /// registers that `watch` maps to a place `w < count` (`u32::MAX`: not watched):
     /// `seen(l, w, (lo, hi))` for every box and watched register, on the lane kernel
@@ -471,6 +496,22 @@ impl Tape {
         }
         give_spare(spare);
     }
+}
+
+/// Whether [`Tape::eval_batch`] over lanes of type `R` runs a lane kernel (points,
+/// intervals, dual numbers, and RevAA forms on a hardware lane path), rather than the
+/// generic loop, for which packs of four forms ([`arith_core::pack`]) are the faster
+/// input.
+pub fn lane_kernel<R: 'static>() -> bool {
+    let id = TypeId::of::<R>();
+    let plain = [
+        TypeId::of::<f64>(),
+        TypeId::of::<Interval>(),
+        TypeId::of::<Dual<f64>>(),
+    ];
+    let revaa = [TypeId::of::<RevAa<1>>(), TypeId::of::<RevAa<3>>()];
+    let path = Path::current();
+    plain.contains(&id) || (revaa.contains(&id) && path != Path::Emulated && path.available())
 }
 
 /// Whether `R` is a revised affine form of the RevAA kernel.

@@ -75,5 +75,5 @@ pub use fold::{Bin, EPS};
 pub use glam;
 pub use instr::{Instr, Op};
 pub use record::Recorder;
-pub use specialise::{CACHE_LIMIT, MIN_SPECIALISE_LEN};
+pub use specialise::{Trace, CACHE_LIMIT, MIN_SPECIALISE_LEN};
 pub use tape::Tape;

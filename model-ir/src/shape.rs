@@ -5,7 +5,9 @@
 //!
 //! FRep sign convention: `f >= 0` inside, `f = 0` on the surface.
 
+use crate::specialise::Trace;
 use arith_core::{Range, Real};
+use arith_ia::Interval;
 use glam::DVec3;
 
 /// A defining function `f(x, y, z)`, evaluable at points (`f64`), over every
@@ -94,6 +96,32 @@ pub trait Shape: Send + Sync {
             })
             .collect();
         (shapes, which)
+    }
+
+    /// [`Shape::eval_batch`] over the boxes `(x[l], y[l], z[l])`, recording into
+    /// `trace` what [`Shape::specialise_traced`] needs to specialise the shape to any of
+    /// them without evaluating it again. The default records nothing.
+    fn eval_boxes_traced(
+        &self,
+        x: &[Interval],
+        y: &[Interval],
+        z: &[Interval],
+        out: &mut Vec<Interval>,
+        trace: &mut Trace,
+    ) {
+        trace.clear();
+        self.eval_batch(x, y, z, out);
+    }
+
+    /// [`Shape::specialise`] to box `lane` of the evaluation that `trace` recorded
+    /// ([`Shape::eval_boxes_traced`] on this shape), read from the trace: `None` where
+    /// there is none (the default). Tapes implement it ([`crate::Tape::specialise_traced`]).
+    fn specialise_traced(&self, trace: &mut Trace, lane: usize) -> Option<Self>
+    where
+        Self: Sized,
+    {
+        let _ = (trace, lane);
+        None
     }
 
     /// A shape with the same *value* as this one (not only the same sign) at every

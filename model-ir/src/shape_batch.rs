@@ -44,7 +44,10 @@ impl<P: Pack> Batch<P> {
         if group.is_empty() {
             return;
         }
-        if shape.packs() && group.len() > 1 {
+        // A tape runs plain lanes on its lane kernels: packing them would only be
+        // undone lane by lane.
+        let kernel = shape.tape_len().is_some() && crate::batch::lane_kernel::<P::Lane>();
+        if shape.packs() && group.len() > 1 && !kernel {
             for v in &mut self.packs {
                 v.clear();
             }

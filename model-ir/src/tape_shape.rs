@@ -3,8 +3,10 @@
 //! specialisation (a shorter tape that agrees with it over a region).
 
 use crate::shape::Shape;
+use crate::specialise::Trace;
 use crate::tape::Tape;
 use arith_core::{Range, Real};
+use arith_ia::Interval;
 
 impl Shape for Tape {
     fn eval<R: Real>(&self, x: R, y: R, z: R) -> R {
@@ -47,5 +49,20 @@ impl Shape for Tape {
 
     fn specialise_values<R: Range>(&self, region: &[R; 3], within: f64) -> Option<Self> {
         Tape::specialise_values(self, region, within)
+    }
+
+    fn eval_boxes_traced(
+        &self,
+        x: &[Interval],
+        y: &[Interval],
+        z: &[Interval],
+        out: &mut Vec<Interval>,
+        trace: &mut Trace,
+    ) {
+        Tape::eval_boxes_traced(self, x, y, z, out, trace)
+    }
+
+    fn specialise_traced(&self, trace: &mut Trace, lane: usize) -> Option<Self> {
+        Tape::specialise_traced(self, trace, lane)
     }
 }

@@ -15,7 +15,7 @@ use arith_ia::Interval;
 use arith_raa::Raa;
 use arith_revaa::RevAa;
 use common::{close, has_elementary};
-use model_ir::{Op, Tape};
+use model_ir::{Op, Tape, Trace};
 use proptest::prelude::*;
 use proptest::test_runner::TestCaseError;
 
@@ -159,6 +159,50 @@ fn specialised_tapes_keep_the_sign_in_their_region() {
     );
     // The property is not vacuous: many regions shorten their tape.
     assert!(shortened.into_inner() > 20);
+}
+
+/// A traced evaluation of a batch of boxes gives the batch's ranges, bit for bit, and
+/// each box's tape read from the trace is the one specialising to that box alone
+/// builds; a trace read with another tape gives nothing.
+#[test]
+fn traced_specialisation_is_each_boxs_own() {
+    let read = std::sync::atomic::AtomicUsize::new(0);
+    run(
+        "traced specialisation",
+        cases(64),
+        (scenes(), prop::collection::vec(boxes(), 1..20)),
+        |(sc, bs)| {
+            let t = Tape::record(|x, y, z| sc.eval(x, y, z)).fuse_rfunctions();
+            let col = |k: usize| -> Vec<Interval> {
+                bs.iter()
+                    .map(|b| Interval::from_interval(b[k].0, b[k].1))
+                    .collect()
+            };
+            let (x, y, z) = (col(0), col(1), col(2));
+            let (mut traced, mut plain, mut trace) = (Vec::new(), Vec::new(), Trace::new());
+            t.eval_boxes_traced(&x, &y, &z, &mut traced, &mut trace);
+            t.eval_batch(&x, &y, &z, &mut plain);
+            prop_assert_eq!(traced.len(), plain.len());
+            for (a, b) in traced.iter().zip(&plain) {
+                let (a, b) = (a.bounds(), b.bounds());
+                prop_assert!(same(a.0, b.0) && same(a.1, b.1), "{a:?} traced, {b:?}");
+            }
+            let listing = |s: Option<Tape>| s.map(|s| s.instructions().to_vec());
+            for (l, b) in bs.iter().enumerate() {
+                let own = listing(specialised_in::<Interval>(&t, b));
+                let from_trace = listing(t.specialise_traced(&mut trace, l));
+                read.fetch_add(
+                    usize::from(own.is_some()),
+                    std::sync::atomic::Ordering::Relaxed,
+                );
+                prop_assert_eq!(own, from_trace, "box {}", l);
+            }
+            let other = Tape::record(|x, y, z| sc.eval(x, y, z)).fuse_rfunctions();
+            prop_assert!(other.specialise_traced(&mut trace, 0).is_none());
+            Ok(())
+        },
+    );
+    assert!(read.into_inner() > 20);
 }
 
 #[test]

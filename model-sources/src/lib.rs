@@ -25,8 +25,9 @@ pub use appendix_a::PaperModel;
 pub use gamito_maddock::GmModel;
 
 use arith_core::Real;
+use arith_ia::Interval;
 use model_ir::shape::{Aabb, Shape, View};
-use model_ir::Tape;
+use model_ir::{Tape, Trace};
 use std::path::Path;
 
 /// Every kind of shape a model source produces; one `match` per evaluation is negligible
@@ -96,6 +97,30 @@ impl Shape for AnyShape {
     fn specialise<R: arith_core::Range>(&self, regions: &[[R; 3]]) -> Option<Self> {
         match self {
             AnyShape::Expr(t) => t.specialise(regions).map(AnyShape::Expr),
+            _ => None,
+        }
+    }
+
+    fn eval_boxes_traced(
+        &self,
+        x: &[Interval],
+        y: &[Interval],
+        z: &[Interval],
+        out: &mut Vec<Interval>,
+        trace: &mut Trace,
+    ) {
+        match self {
+            AnyShape::Expr(t) => t.eval_boxes_traced(x, y, z, out, trace),
+            _ => {
+                trace.clear();
+                self.eval_batch(x, y, z, out)
+            }
+        }
+    }
+
+    fn specialise_traced(&self, trace: &mut Trace, lane: usize) -> Option<Self> {
+        match self {
+            AnyShape::Expr(t) => t.specialise_traced(trace, lane).map(AnyShape::Expr),
             _ => None,
         }
     }

@@ -33,12 +33,16 @@ use crate::instr::Instr;
 use crate::tape::Tape;
 use arith_core::Range;
 use arith_ia::Interval;
-use rules::{rebuild, Fold, Specialiser, KEEP};
+use one_pass::rebuild;
+use rules::{Fold, Specialiser, KEEP};
 use rustc_hash::FxHashMap as HashMap;
 use std::any::TypeId;
 
+mod one_pass;
 pub(crate) mod rules;
+mod trace;
 pub use rules::MIN_SPECIALISE_LEN;
+pub use trace::Trace;
 
 /// Specialised tapes a tape keeps for reuse.
 pub const CACHE_LIMIT: usize = 512;

@@ -1,14 +1,11 @@
 //! The rewrite rules of region specialisation (see [`crate::specialise`]): which
-//! registers matter only by sign or by level, the decisions the bounds of a region
-//! allow, and the tape rebuilt with them. Works on instruction slices; the cache and the
-//! public API are in [`crate::specialise`].
+//! registers matter only by sign or by level, and the decisions the bounds of a region
+//! allow (the tape is rewritten with them by [`super::one_pass`]). Works on instruction
+//! slices; the cache and the public API are in [`crate::specialise`].
 
-use crate::builder::{finish, Builder, Val};
 use crate::eval::{run, with_registers};
-use crate::fold::Bin;
 use crate::instr::{Instr, Op};
 use crate::tape::Tape;
-use arith_core::branch::Step;
 use arith_core::{Known, Range, Real};
 use arith_ia::Interval;
 use std::any::TypeId;
@@ -95,13 +92,13 @@ pub(crate) enum Fold {
 /// A register kept as it is.
 pub(crate) const KEEP: u8 = 0;
 /// Strictly positive over the region (sign only): the constant 1.
-const POS: u8 = 1;
+pub(crate) const POS: u8 = 1;
 /// Strictly negative over the region (sign only): the constant -1.
-const NEG: u8 = 2;
+pub(crate) const NEG: u8 = 2;
 /// A `min` or `max` that is its first operand over the region.
-const TAKE_A: u8 = 3;
+pub(crate) const TAKE_A: u8 = 3;
 /// A `min` or `max` that is its second operand over the region.
-const TAKE_B: u8 = 4;
+pub(crate) const TAKE_B: u8 = 4;
 
 /// Whether `sign(i)` depends on operand `k` only through `sign(operand)`, monotonically or
 /// antitonically, given that only `sign(i)` matters.
@@ -475,174 +472,5 @@ pub(crate) fn bounds_of<R: Real>(v: &R) -> (f64, f64) {
         Known::Range(lo, hi) => (lo, hi),
         Known::Point(p) => (p, p),
         Known::Unknown => (f64::NAN, f64::NAN),
-    }
-}
-
-/// The tape `ins` with `decisions` applied, simplified and stripped of dead code;
-/// registers marked in `folded` (none where `None`) are folded as `fold` says.
-pub(crate) fn rebuild(
-    ins: &[Instr],
-    folded: Option<&[bool]>,
-    fold: Fold,
-    decisions: &[u8],
-) -> Vec<Instr> {
-    let level = matches!(fold, Fold::Level(_));
-    let (plus, minus) = if level {
-        (f64::INFINITY, f64::NEG_INFINITY)
-    } else {
-        (1.0, -1.0)
-    };
-    let n = ins.len();
-    // What the result still reads once the decisions are made (emitting the rest would
-    // only be undone by `finish`).
-    let mut live = vec![false; n];
-    live[n - 1] = true;
-    for k in (0..n).rev() {
-        if !live[k] {
-            continue;
-        }
-        let i = &ins[k];
-        match decisions[k] {
-            POS | NEG => {}
-            TAKE_A => live[i.a as usize] = true,
-            TAKE_B => live[i.b as usize] = true,
-            _ => {
-                for &p in i.operands() {
-                    live[i.reg(p) as usize] = true;
-                }
-            }
-        }
-    }
-    let mut b = Builder::with_capacity(live.iter().filter(|&&l| l).count());
-    let mut map: Vec<Val> = vec![Val::C(f64::NAN); n];
-    for (k, i) in ins.iter().enumerate() {
-        if !live[k] {
-            continue;
-        }
-        let arg = |p: usize| map[i.reg(p) as usize];
-        map[k] = match decisions[k] {
-            POS => Val::C(plus),
-            NEG => Val::C(minus),
-            TAKE_A => arg(0),
-            TAKE_B => arg(1),
-            _ => reemit(
-                &mut b,
-                i,
-                [arg(0), arg(1), arg(2)],
-                folded.is_some_and(|s| s[k]).then_some(level),
-            ),
-        };
-    }
-    let out = b.reg(map[n - 1]);
-    finish(b.ins, out)
-}
-
-/// `i` over the new operands `v`, folded where they are constants: exactly where the
-/// value matters, by sign where only the sign does (`sign`).
-fn reemit(b: &mut Builder, i: &Instr, v: [Val; 3], fold: Option<bool>) -> Val {
-    let [a, c2, e] = v;
-    let c = Val::C(i.c);
-    let regs = |b: &mut Builder, op: Op, x: Val, y: Val| {
-        let (x, y) = (b.reg(x), b.reg(y));
-        Val::R(b.emit(Instr::new(op, x, y, 0, 0.0)))
-    };
-    // By sign (`Some(false)`) every positive constant stands for "positive"; by level
-    // (`Some(true)`) only the folded `inf` stands for "above the level" (a constant of
-    // the model keeps its value), and only `min`, `max` and negation are folded.
-    let sign = fold.is_some();
-    let level = fold == Some(true);
-    let (top, bottom) = if level {
-        (f64::INFINITY, f64::NEG_INFINITY)
-    } else {
-        (1.0, -1.0)
-    };
-    let pos = |v: Val| matches!(v, Val::C(p) if p > 0.0 && (!level || p == f64::INFINITY));
-    let neg = |v: Val| matches!(v, Val::C(p) if p < 0.0 && (!level || p == f64::NEG_INFINITY));
-    let meet = matches!(i.op, Op::Min) || (!level && i.op == Op::Intersect);
-    let join = matches!(i.op, Op::Max) || (!level && i.op == Op::Union);
-    let subtract = !level && i.op == Op::Subtract;
-    match i.op {
-        Op::X | Op::Y | Op::Z => Val::R(b.emit(Instr::new(i.op, 0, 0, 0, 0.0))),
-        Op::Const => c,
-        Op::Neg => match a {
-            Val::C(p) => Val::C(-p),
-            _ => b.unary(Op::Neg, a),
-        },
-        Op::Sqr => b.powi(a, 2),
-        Op::Powi => b.powi(a, i.n),
-        Op::Sqrt | Op::Recip | Op::Exp | Op::Ln | Op::Sin | Op::Cos | Op::Abs => {
-            b.unary_folded(i.op, a)
-        }
-        Op::AddC => b.binary(Bin::Add, a, c),
-        Op::SubC => b.binary(Bin::Sub, a, c),
-        Op::RSubC => b.binary(Bin::Sub, c, a),
-        Op::MulC => b.binary(Bin::Mul, a, c),
-        Op::DivC => b.binary(Bin::Div, a, c),
-        Op::RDivC => b.binary(Bin::Div, c, a),
-        Op::Add => b.binary(Bin::Add, a, c2),
-        Op::Sub => b.binary(Bin::Sub, a, c2),
-        Op::Mul => b.binary(Bin::Mul, a, c2),
-        Op::Div => b.binary(Bin::Div, a, c2),
-        // By sign: a meet is its other operand where one is positive, negative where
-        // one is negative; a join the other way round.
-        _ if meet && sign && (pos(a) || pos(c2)) => {
-            if pos(a) {
-                c2
-            } else {
-                a
-            }
-        }
-        _ if meet && sign && (neg(a) || neg(c2)) => Val::C(bottom),
-        _ if join && sign && (neg(a) || neg(c2)) => {
-            if neg(a) {
-                c2
-            } else {
-                a
-            }
-        }
-        _ if join && sign && (pos(a) || pos(c2)) => Val::C(top),
-        // `a \ b` is `a & -b`.
-        _ if subtract && sign && neg(c2) => a,
-        _ if subtract && sign && pos(a) => match c2 {
-            Val::C(q) => Val::C(-q),
-            _ => b.unary(Op::Neg, c2),
-        },
-        _ if subtract && sign && (neg(a) || pos(c2)) => Val::C(-1.0),
-        Op::Min | Op::Max => min_max(b, i.op, a, c2),
-        // By sign, an R-function has the sign of `min` or `max` of its operands (see
-        // the [proofs](crate::specialise::proofs)), whose ranges are far tighter.
-        Op::Intersect | Op::Union | Op::Subtract if sign && !level => match i.op {
-            Op::Intersect => min_max(b, Op::Min, a, c2),
-            Op::Union => min_max(b, Op::Max, a, c2),
-            _ => {
-                let nb = match c2 {
-                    Val::C(q) => Val::C(-q),
-                    _ => b.unary(Op::Neg, c2),
-                };
-                min_max(b, Op::Min, a, nb)
-            }
-        },
-        Op::Intersect => b.binary(Bin::Intersect, a, c2),
-        Op::Union => b.binary(Bin::Union, a, c2),
-        Op::Subtract => b.binary(Bin::Subtract, a, c2),
-        Op::Hypot | Op::BlendUnion | Op::BlendIntersect => regs(b, i.op, a, c2),
-        Op::Gt0 => b.step(Step::Pos, a),
-        Op::Ge0 => b.step(Step::NonNeg, a),
-        Op::Select => b.select(a, c2, e),
-    }
-}
-
-/// `min(x, y)` or `max(x, y)` (`op`), folded where both are constants.
-fn min_max(b: &mut Builder, op: Op, x: Val, y: Val) -> Val {
-    match (x, y) {
-        (Val::C(p), Val::C(q)) => Val::C(if op == Op::Min {
-            Real::min(&p, &q)
-        } else {
-            Real::max(&p, &q)
-        }),
-        _ => {
-            let (x, y) = (b.reg(x), b.reg(y));
-            Val::R(b.emit(Instr::new(op, x, y, 0, 0.0)))
-        }
     }
 }
