@@ -31,6 +31,7 @@ mod parts;
 mod points;
 mod regfile;
 mod revaa;
+mod revaa_approx;
 
 pub(crate) use regfile::Slots;
 

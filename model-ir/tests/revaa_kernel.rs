@@ -5,9 +5,9 @@
 //! scalar `RevAa<N>` evaluation's, bit for bit, for one and three symbols and for
 //! four-form packs, on recorded expressions and on random tapes of every instruction
 //! over random forms (zeros of both signs, huge, tiny, infinite and NaN parts); on
-//! every path, the AVX2 one included (whose square may take a radius bound an ulp
-//! higher), each batched range holds the exact value of the function at random points
-//! of the inputs' boxes.
+//! every path, the AVX2 one included (whose square, `abs`, `sqrt`, `min` and `max` may
+//! take directed bounds an ulp further out), each batched range holds the exact value
+//! of the function at random points of the inputs' boxes.
 
 mod common;
 

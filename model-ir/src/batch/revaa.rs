@@ -11,14 +11,19 @@
 //! proof. One part is directed: the square's radius bound `W` (`add_dir_up` in the
 //! scalar form, the ceiling of each partial sum) is the lanes' `add_up`, the same number
 //! on the AVX-512 and emulated paths and at most an ulp above it per addition on the
-//! AVX2 path, where any `W >= Σ|xi| + e` is as sound. `min` and `max` take a whole
+//! AVX2 path, where any `W >= Σ|xi| + e` is as sound. `|x|` and `sqrt x` are the
+//! scalar form's approximations, ported step by step ([`super::revaa_approx`], which
+//! says where its directed steps stand on each path); `min` and `max` take a whole
 //! operand where the directed bounds decide the order (the scalar rule; the AVX2
-//! path's wider bounds decide no more lanes); every other lane of theirs, and every
-//! other instruction, runs the scalar operation lane by lane. [`crate::Tape::eval_batch`]
+//! path's wider bounds decide no more lanes), else `((x + y) ∓ |x - y|) * 0.5` from
+//! the operations above. The lanes these leave to a branch not ported (unbounded or
+//! degenerate ranges, `sqrt`'s general path), and every other instruction, run the
+//! scalar operation lane by lane. [`crate::Tape::eval_batch`]
 //! runs this kernel on the hardware paths; on the emulated path the directed sums cost
 //! more than the generic loop over four-form packs, which gives the same bits.
 
 use super::parts::{PartOps, Step, MAX_PARTS};
+use super::revaa_approx;
 use crate::eval::apply;
 use crate::instr::{Instr, Op};
 use arith_core::affine_round::{k_lin, k_mul, slack, sqr_margin, TINY};
@@ -32,13 +37,13 @@ pub(crate) struct Forms<const N: usize>;
 
 /// Eight forms in registers.
 #[derive(Clone, Copy)]
-struct F<V, const N: usize> {
-    x0: V,
-    xs: [V; N],
-    e: V,
+pub(super) struct F<V, const N: usize> {
+    pub(super) x0: V,
+    pub(super) xs: [V; N],
+    pub(super) e: V,
 }
 
-type Form<I, const N: usize> = F<<I as Isa>::V, N>;
+pub(super) type Form<I, const N: usize> = F<<I as Isa>::V, N>;
 
 /// `affine_round::up_rel` per lane.
 #[inline(always)]
@@ -48,7 +53,7 @@ fn up_rel<I: Isa>(s: I, v: I::V, k: usize) -> I::V {
 
 /// `affine_round::up_abs` per lane.
 #[inline(always)]
-fn up_abs<I: Isa>(s: I, v: I::V, k: usize) -> I::V {
+pub(super) fn up_abs<I: Isa>(s: I, v: I::V, k: usize) -> I::V {
     s.add(s.mul(v, s.splat(slack(k))), s.splat((k + 1) as f64 * ETA))
 }
 
@@ -61,7 +66,12 @@ fn u_abs<I: Isa>(s: I, v: I::V) -> I::V {
 /// `a ± b` (the scalar `Add` and `Sub`: the radii add, each part's rounding in `e`).
 #[inline(always)]
 #[allow(clippy::needless_range_loop)] // several arrays indexed together
-fn add<I: Isa, const N: usize>(s: I, a: Form<I, N>, b: Form<I, N>, minus: bool) -> Form<I, N> {
+pub(super) fn add<I: Isa, const N: usize>(
+    s: I,
+    a: Form<I, N>,
+    b: Form<I, N>,
+    minus: bool,
+) -> Form<I, N> {
     let op = |x, y| if minus { s.sub(x, y) } else { s.add(x, y) };
     let x0 = op(a.x0, b.x0);
     let mut acc = s.add(s.add(a.e, b.e), u_abs(s, x0));
@@ -78,7 +88,7 @@ fn add<I: Isa, const N: usize>(s: I, a: Form<I, N>, b: Form<I, N>, minus: bool) 
 }
 
 #[inline(always)]
-fn neg<I: Isa, const N: usize>(s: I, a: Form<I, N>) -> Form<I, N> {
+pub(super) fn neg<I: Isa, const N: usize>(s: I, a: Form<I, N>) -> Form<I, N> {
     let mut xs = a.xs;
     for x in &mut xs {
         *x = s.neg(*x);
@@ -107,7 +117,7 @@ fn add_c<I: Isa, const N: usize>(s: I, a: Form<I, N>, c: I::V, minus: bool) -> F
 
 /// `a * c` (`a / c` with `div`, for `c != 0`) for a constant.
 #[inline(always)]
-fn mul_c<I: Isa, const N: usize>(s: I, a: Form<I, N>, c: I::V, div: bool) -> Form<I, N> {
+pub(super) fn mul_c<I: Isa, const N: usize>(s: I, a: Form<I, N>, c: I::V, div: bool) -> Form<I, N> {
     let op = |x| if div { s.div(x, c) } else { s.mul(x, c) };
     let x0 = op(a.x0);
     let mut r = s.abs(x0);
@@ -220,7 +230,12 @@ fn cheb_sqr<I: Isa, const N: usize>(s: I, x: Form<I, N>, w: I::V) -> Form<I, N> 
 /// `m ? a : b`, every part.
 #[inline(always)]
 #[allow(clippy::needless_range_loop)] // several arrays indexed together
-fn select<I: Isa, const N: usize>(s: I, m: I::M, a: Form<I, N>, b: Form<I, N>) -> Form<I, N> {
+pub(super) fn select<I: Isa, const N: usize>(
+    s: I,
+    m: I::M,
+    a: Form<I, N>,
+    b: Form<I, N>,
+) -> Form<I, N> {
     let mut xs = a.xs;
     for k in 0..N {
         xs[k] = s.select(m, a.xs[k], b.xs[k]);
@@ -252,20 +267,21 @@ fn sqr<I: Isa, const N: usize>(s: I, x: Form<I, N>) -> Form<I, N> {
 /// The directed bounds `x0 ∓ rad` (the scalar `bounds`; where one is not finite the
 /// scalar gives the whole line, which decides no order: such lanes compare false).
 #[inline(always)]
-fn bounds<I: Isa, const N: usize>(s: I, x: Form<I, N>) -> (I::V, I::V) {
+pub(super) fn bounds<I: Isa, const N: usize>(s: I, x: Form<I, N>) -> (I::V, I::V) {
     let rad = rad_dir(s, x);
     (s.add_down_raw(x.x0, s.neg(rad)), s.add_up_raw(x.x0, rad))
 }
 
 /// Whether each lane's bounds are finite.
 #[inline(always)]
-fn finite<I: Isa>(s: I, (lo, hi): (I::V, I::V)) -> I::M {
+pub(super) fn finite<I: Isa>(s: I, (lo, hi): (I::V, I::V)) -> I::M {
     let inf = s.splat(f64::INFINITY);
     s.and(s.lt(s.neg(inf), lo), s.lt(hi, inf))
 }
 
-/// `min` (or `max`) where the bounds decide the order: the whole lower (higher) operand;
-/// the mask of the lanes left undecided, for the scalar operation.
+/// `min` (or `max`): the whole lower (higher) operand where the bounds decide the
+/// order, else `((x + y) ∓ |x - y|) * 0.5` (the scalar rule, the same operations); the
+/// mask of the lanes whose `|x - y|` is left to the scalar operation.
 #[inline(always)]
 fn min_max<I: Isa, const N: usize>(
     s: I,
@@ -280,7 +296,13 @@ fn min_max<I: Isa, const N: usize>(
     let (lo, hi) = if max { (y, x) } else { (x, y) };
     // `x_low`: `min` is `x`, `max` is `y`; else `y_low`: the other way round.
     let r = select(s, x_low, lo, hi);
-    (r, s.not(s.or(x_low, y_low)))
+    let open = s.not(s.or(x_low, y_low));
+    if s.bits(open) == 0 {
+        return (r, open);
+    }
+    let (d, redo) = revaa_approx::abs(s, add(s, x, y, true));
+    let f = mul_c(s, add(s, add(s, x, y, false), d, !max), s.splat(0.5), false);
+    (select(s, open, f, r), s.and(open, redo))
 }
 
 /// Eight forms from the `N + 2` blocks at `file[k..]`.
@@ -345,6 +367,8 @@ impl<const N: usize> PartOps for Forms<N> {
             Op::Mul => op!(|x, y| (mul(s, x, y), none)),
             Op::Min => op!(|x, y| min_max(s, x, y, false)),
             Op::Max => op!(|x, y| min_max(s, x, y, true)),
+            Op::Abs => op!(|x, y| revaa_approx::abs(s, x)),
+            Op::Sqrt => op!(|x, y| revaa_approx::sqrt(s, x)),
             // Lane by lane through the scalar operation.
             _ => op!(|x, y| (x, all)),
         }
@@ -396,7 +420,8 @@ mod tests {
     fn emulated_kernel_gives_the_scalar_bits() {
         let t = Tape::record(|x, y, z| {
             let a = (x.sqr() + y * z - 0.5).max(&(x - y.sqr()));
-            (a.min(&(z * 3.0)) * (x + 1.0)).sqr().rsub(2.0) / 1.5 - y.sqrt()
+            let b = (a.min(&(z * 3.0)) * (x + 1.0)).sqr().rsub(2.0) / 1.5 - y.sqrt();
+            b + (x - z).abs().min(&y.abs()).sqrt()
         });
         let forms: Vec<RevAa<1>> = (0..37)
             .map(|k| {

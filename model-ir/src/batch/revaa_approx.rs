@@ -1,0 +1,335 @@
+//! The RevAA kernel's non-affine unary operations, `|x|` and `sqrt x`, through the
+//! shared affine approximations: per lane, the scalar form's `Reduced::unary` (the
+//! range from `affine_round::bounds_fast`, the approximation `alpha*x + zeta ± delta`
+//! of `approx::abs` or `approx::sqrt` on it, then `Reduced::apply`), operation for
+//! operation.
+//!
+//! The steps in round to nearest are the scalar `f64` operations in the same order; the
+//! directed ones (`abs`'s `g_enc` bounds: `mul_lo`, `sub_hi`) are the lanes' raw
+//! directed operations, which on the AVX-512 and emulated paths are the same floor and
+//! ceiling as `round::tight`'s (they differ only in the sign of an exact zero, which
+//! the `max` that follows never picks: the other end is positive), and `f64::next_up`
+//! and `next_down` of `sqrt`'s closed forms are the ceiling of `v + 2^-1074` and the
+//! floor of `v - 2^-1074`, the same numbers for the finite values taken there (an
+//! exact zero's sign aside, which the subtractions that follow ignore). So each lane
+//! is the scalar `RevAa<N>` bit for bit on those paths and inherits its soundness
+//! proof. On the AVX2 path each directed operation is at most an ulp further out:
+//! every bound stays a bound (a wider `g` range, a larger `next_up`), so the lanes
+//! still enclose, and `|x|`'s sign test may leave to the approximation a lane whose
+//! tight bounds decide it.
+//!
+//! A lane whose approximation takes a branch not written here (an unbounded or
+//! degenerate range, `sqrt`'s general path through tangent bounds, a slope that is not
+//! a normal number, an overflow) is flagged for the scalar operation.
+
+use super::revaa::{bounds, finite, neg, select, up_abs, Form, F};
+use arith_core::affine_round::{k_lin, slack};
+use arith_core::lanes::Isa;
+use arith_core::round::{ETA, U};
+
+/// An affine approximation `alpha*x + zeta ± delta` per lane.
+#[derive(Clone, Copy)]
+struct Approx<V> {
+    alpha: V,
+    zeta: V,
+    delta: V,
+}
+
+/// Whether each lane of `v` is finite.
+#[inline(always)]
+fn finite1<I: Isa>(s: I, v: I::V) -> I::M {
+    finite(s, (v, v))
+}
+
+/// `affine_round::bounds_fast`: `x0 ∓ rad` with `rad >= Σ|xs[i]| + e` rounded up
+/// relatively, each bound moved out by `2U` of itself and `ETA`.
+#[inline(always)]
+fn bounds_fast<I: Isa, const N: usize>(s: I, x: Form<I, N>) -> (I::V, I::V) {
+    let mut acc = x.e;
+    for c in x.xs {
+        acc = s.add(acc, s.abs(c));
+    }
+    let rad = s.mul(acc, s.splat(slack(N + 1)));
+    let (lo, hi) = (s.sub(x.x0, rad), s.add(x.x0, rad));
+    let (two_u, eta) = (s.splat(2.0 * U), s.splat(ETA));
+    (
+        s.sub(lo, s.add(s.mul(s.abs(lo), two_u), eta)),
+        s.add(hi, s.add(s.mul(s.abs(hi), two_u), eta)),
+    )
+}
+
+/// `approx::finish`: `zeta` near the midpoint of `g ∈ [lo, hi]`, `delta` the larger
+/// half-width times `1 + 4U`; with the lanes where the scalar gives a bounded
+/// approximation (else `Approx::ENTIRE`).
+#[inline(always)]
+fn finish<I: Isa>(s: I, alpha: I::V, lo: I::V, hi: I::V) -> (Approx<I::V>, I::M) {
+    let half = s.splat(0.5);
+    let zeta = s.add(s.mul(half, lo), s.mul(half, hi));
+    let d = s.max(s.max(s.sub(hi, zeta), s.sub(zeta, lo)), s.splat(0.0));
+    let delta = s.mul(d, s.splat(1.0 + 4.0 * U));
+    let ok = s.and(
+        s.and(finite1(s, alpha), s.and(finite(s, (lo, hi)), s.le(lo, hi))),
+        s.and(finite1(s, zeta), finite1(s, delta)),
+    );
+    (Approx { alpha, zeta, delta }, ok)
+}
+
+/// `Reduced::apply` of a bounded approximation: `alpha*x + zeta`, `e = delta +
+/// |alpha| e_x` and the rounding errors; the constant `zeta ± delta` where `alpha` is 0.
+#[inline(always)]
+fn apply<I: Isa, const N: usize>(s: I, x: Form<I, N>, a: Approx<I::V>) -> Form<I, N> {
+    let ax0 = s.mul(a.alpha, x.x0);
+    let x0 = s.add(ax0, a.zeta);
+    let mut r = s.add(s.abs(ax0), s.abs(x0));
+    let mut xs = x.xs;
+    for z in &mut xs {
+        *z = s.mul(a.alpha, *z);
+        r = s.add(r, s.abs(*z));
+    }
+    let sum = s.add(
+        s.add(a.delta, s.mul(s.abs(a.alpha), x.e)),
+        s.mul(s.splat(U), r),
+    );
+    let line = F {
+        x0,
+        xs,
+        e: up_abs(s, sum, k_lin(N)),
+    };
+    let zero = s.splat(0.0);
+    let flat = F {
+        x0: a.zeta,
+        xs: [zero; N],
+        e: a.delta,
+    };
+    select(s, s.eq(a.alpha, zero), flat, line)
+}
+
+/// `approx::abs` on `[a, b]` with `a < 0 < b` (the lanes where that fails are in the
+/// mask): the Chebyshev slope clamped to `[-1, 1]`, `g = |x| - alpha*x` in `[0, max of
+/// its ends]` (convex).
+#[inline(always)]
+fn abs_across<I: Isa>(s: I, a: I::V, b: I::V) -> (Approx<I::V>, I::M) {
+    let (zero, one) = (s.splat(0.0), s.splat(1.0));
+    let q = s.div(s.add(a, b), s.sub(b, a));
+    let q = s.max(s.min(q, one), s.neg(one));
+    // `approx::flush`: a subnormal slope is 0.
+    let alpha = s.select(s.lt(s.abs(q), s.splat(f64::MIN_POSITIVE)), zero, q);
+    let ga = s.sub_up_raw(s.neg(a), s.mul_down_raw(alpha, a));
+    let gb = s.sub_up_raw(b, s.mul_down_raw(alpha, b));
+    let (ap, ok) = finish(s, alpha, zero, s.max(ga, gb));
+    (ap, s.and(ok, s.and(s.lt(a, zero), s.lt(zero, b))))
+}
+
+/// RevAA's `|x|` (`Reduced::abs`): the operand or its negation where the directed
+/// bounds hold no value of the other sign, else the approximation on the fast bounds.
+/// Returns the forms and the lanes left to the scalar operation.
+#[inline(always)]
+pub(super) fn abs<I: Isa, const N: usize>(s: I, x: Form<I, N>) -> (Form<I, N>, I::M) {
+    let zero = s.splat(0.0);
+    let b = bounds(s, x);
+    let ok = finite(s, b);
+    let pos = s.and(ok, s.le(zero, b.0));
+    let neg_ = s.and(ok, s.le(b.1, zero));
+    let (lo, hi) = bounds_fast(s, x);
+    let (ap, good) = abs_across(s, lo, hi);
+    let good = s.and(good, finite(s, (lo, hi)));
+    let r = select(s, pos, x, select(s, neg_, neg(s, x), apply(s, x, ap)));
+    (r, s.not(s.or(s.or(pos, neg_), good)))
+}
+
+/// The closed forms of `approx::sqrt` for finite `a < b` (`sqrt_fast` where `a > 0`,
+/// `sqrt_fast_across` where `a < 0 < b`), `sb = sqrt(b)`; the lanes where the scalar
+/// takes one of them and gets a bounded approximation.
+#[inline(always)]
+fn sqrt_closed<I: Isa>(s: I, a: I::V, b: I::V, sb: I::V) -> (Approx<I::V>, I::M) {
+    let (zero, one) = (s.splat(0.0), s.splat(1.0));
+    let next_up = |v| s.add_up_raw(v, s.splat(ETA));
+    let next_down = |v| s.add_down_raw(v, s.splat(-ETA));
+    // `a > 0`: the secant slope; `g`'s ends with one allowance below, `1/(4 alpha)`
+    // through `sum / 4` above.
+    let sa = s.sqrt(a);
+    let sum = s.add(sa, sb);
+    let alpha_in = s.div(one, sum);
+    let ga = s.sub(sa, s.mul(alpha_in, a));
+    let gb = s.sub(sb, s.mul(alpha_in, b));
+    let slack_in = s.add(
+        s.mul(s.splat(4.0 * U), s.add(sb, s.mul(alpha_in, b))),
+        s.splat(2.0 * ETA),
+    );
+    let lo_in = s.sub(s.min(ga, gb), slack_in);
+    let hi_in = s.mul(s.mul(s.splat(0.25), sum), s.splat(1.0 + 8.0 * U));
+    // `a < 0 < b`: the minimax slope of the clipped root.
+    let l = s.neg(a);
+    let alpha_across = s.select(
+        s.le(l, s.mul(s.splat(0.25), b)),
+        s.div(one, sb),
+        s.select(
+            s.le(l, b),
+            s.div(s.splat(0.5), s.sqrt(l)),
+            s.div(sb, s.sub(b, a)),
+        ),
+    );
+    let ab = s.mul(alpha_across, b);
+    let gb_across = next_down(s.sub(next_down(sb), next_up(ab)));
+    let rising = s.le(
+        s.mul(s.mul(s.splat(2.0), alpha_across), sb),
+        s.splat(1.0 - 1e-9),
+    );
+    let top = s.select(
+        rising,
+        next_up(s.sub(next_up(sb), next_down(ab))),
+        next_up(s.div(s.splat(0.25), alpha_across)),
+    );
+    let hi_across = s.max(top, next_up(s.neg(s.mul(alpha_across, a))));
+    let lo_across = s.min(gb_across, zero);
+    let inside = s.lt(zero, a);
+    let alpha = s.select(inside, alpha_in, alpha_across);
+    let (ap, ok) = finish(
+        s,
+        alpha,
+        s.select(inside, lo_in, lo_across),
+        s.select(inside, hi_in, hi_across),
+    );
+    // Both take a normal positive slope (the across one after `flush`, which makes a
+    // subnormal one 0 and so fails the same test).
+    let normal = s.and(
+        s.le(s.splat(f64::MIN_POSITIVE), alpha),
+        s.lt(alpha, s.splat(f64::INFINITY)),
+    );
+    let taken = s.and(s.lt(a, b), s.or(inside, s.lt(a, zero)));
+    (ap, s.and(ok, s.and(normal, taken)))
+}
+
+/// RevAA's `sqrt x` (`Reduced::sqrt`): exactly 0 where the fast bounds lie at or below
+/// 0, else the closed-form approximation on them. Returns the forms and the lanes left
+/// to the scalar operation.
+#[inline(always)]
+pub(super) fn sqrt<I: Isa, const N: usize>(s: I, x: Form<I, N>) -> (Form<I, N>, I::M) {
+    let zero = s.splat(0.0);
+    let (a, b) = bounds_fast(s, x);
+    let ok = finite(s, (a, b));
+    let flat = s.le(b, zero);
+    let (ap, good) = sqrt_closed(s, a, b, s.sqrt(b));
+    let nought = F {
+        x0: zero,
+        xs: [zero; N],
+        e: zero,
+    };
+    let r = select(s, flat, nought, apply(s, x, ap));
+    (r, s.not(s.and(ok, s.or(flat, good))))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use arith_core::lanes::{dispatch, F64x8, Kernel, Path, LANES};
+    use arith_core::{Range, Real};
+    use arith_revaa::RevAa;
+
+    /// `|x|` (or `sqrt x`) of eight forms on one path: the forms and the lanes left to
+    /// the scalar operation.
+    struct Unary<'a> {
+        x: &'a [RevAa<1>],
+        sqrt: bool,
+    }
+
+    impl Kernel for Unary<'_> {
+        type Output = (Vec<RevAa<1>>, u8);
+        #[inline(always)]
+        fn run<I: Isa>(self, s: I) -> Self::Output {
+            let part = |f: &dyn Fn(&RevAa<1>) -> f64| {
+                s.load(&F64x8(core::array::from_fn(|l| f(&self.x[l]))))
+            };
+            let x = F {
+                x0: part(&|f| f.x0),
+                xs: [part(&|f| f.xs[0])],
+                e: part(&|f| f.e),
+            };
+            let (r, redo) = if self.sqrt { sqrt(s, x) } else { abs(s, x) };
+            let (x0, c, e) = (s.store(r.x0), s.store(r.xs[0]), s.store(r.e));
+            let forms = (0..LANES)
+                .map(|l| RevAa::<1>::from_parts(x0.0[l], [c.0[l]], e.0[l]))
+                .collect();
+            (forms, s.bits(redo))
+        }
+    }
+
+    /// Forms with dyadic parts (exact values at dyadic points): wholly negative, across
+    /// 0 and wholly positive, with and without an error term.
+    fn forms() -> Vec<RevAa<1>> {
+        let mut v = Vec::new();
+        for k in 0..49 {
+            for c in [0.0, -0.125, 1.0, 2.5] {
+                for e in [0.0, 1.0 / 64.0, 0.5] {
+                    v.push(RevAa::<1>::from_parts(k as f64 / 8.0 - 3.0, [c], e));
+                }
+            }
+        }
+        v
+    }
+
+    /// On the tight paths each lane is the scalar form bit for bit and none is left to
+    /// it; on every path each lane holds the function's values at points of the form.
+    #[test]
+    fn lanes_are_the_scalar_approximations() {
+        let same = |a: &RevAa<1>, b: &RevAa<1>| {
+            a.x0.to_bits() == b.x0.to_bits()
+                && a.xs[0].to_bits() == b.xs[0].to_bits()
+                && a.e.to_bits() == b.e.to_bits()
+        };
+        let xs = forms();
+        for path in Path::available_paths() {
+            for sqrt in [false, true] {
+                let (mut across, mut redone) = (0, 0);
+                for x in xs.chunks_exact(LANES) {
+                    let (out, redo) = dispatch(path, Unary { x, sqrt });
+                    redone += redo.count_ones();
+                    for (l, (o, f)) in out.iter().zip(x).enumerate() {
+                        if redo & (1 << l) != 0 {
+                            continue;
+                        }
+                        let want = if sqrt { f.sqrt() } else { f.abs() };
+                        let (lo, hi) = f.bounds();
+                        across += usize::from(lo < 0.0 && hi > 0.0);
+                        if path != Path::Avx2 {
+                            assert!(same(o, &want), "{path}: {o:?} vs {want:?} of {f:?}");
+                        }
+                        let (rl, rh) = o.bounds();
+                        for eps in [-1.0, -0.5, 0.0, 0.25, 1.0] {
+                            for d in [-f.e, 0.0, f.e] {
+                                let v = f.x0 + f.xs[0] * eps + d;
+                                let y = if sqrt { v.max(0.0).sqrt() } else { v.abs() };
+                                assert!(rl <= y && y <= rh, "{path}: {y} not in [{rl}, {rh}]");
+                            }
+                        }
+                    }
+                }
+                if path != Path::Avx2 {
+                    assert_eq!(redone, 0, "{path}: lanes left to the scalar operation");
+                }
+                assert!(across > 100, "{path}: {across} ranges across 0");
+            }
+        }
+    }
+
+    /// Unbounded, NaN and degenerate ranges are left to the scalar operation.
+    #[test]
+    fn unusual_lanes_go_to_the_scalar_operation() {
+        let x = [
+            RevAa::<1>::from_parts(f64::NAN, [1.0], 0.0),
+            RevAa::<1>::from_parts(0.0, [f64::INFINITY], 0.0),
+            RevAa::<1>::from_parts(1e308, [1e308], 1e308),
+            RevAa::<1>::from_parts(0.0, [1.0], f64::NAN),
+            RevAa::<1>::from_parts(-1.0, [f64::INFINITY], 0.0),
+            RevAa::<1>::from_parts(f64::INFINITY, [0.0], 0.0),
+            RevAa::<1>::from_parts(-f64::INFINITY, [0.0], 0.0),
+            RevAa::<1>::from_parts(0.0, [1.0], f64::INFINITY),
+        ];
+        for path in Path::available_paths() {
+            for sqrt in [false, true] {
+                let (_, redo) = dispatch(path, Unary { x: &x, sqrt });
+                assert_eq!(redo, 0xff, "{path}, sqrt {sqrt}");
+            }
+        }
+    }
+}
