@@ -14,6 +14,7 @@
 use super::grid::{cell_inputs, Clipped};
 use arith_core::dual::Dual;
 use arith_core::{Arithmetic, Range};
+use model_ir::arith::arith_ia::IaArith;
 use model_ir::shape::{Aabb, Shape};
 
 /// The value and gradient of `shape` clipped to `domain` over the cell `b`, in the
@@ -26,6 +27,30 @@ pub fn cell_gradient<A: Arithmetic, S: Shape>(shape: &S, domain: &Aabb, b: &Aabb
     };
     let [x, y, z] = cell_inputs::<A::Cell>(b);
     f.eval(Dual::var(x, 0), Dual::var(y, 1), Dual::var(z, 2))
+}
+
+/// The gradient's ranges `g` (from any arithmetic's [`cell_gradient`]) narrowed by
+/// interval arithmetic's: both enclose every gradient over the cell `b`, so their
+/// intersection does. Interval arithmetic keeps the exact 0 and the exact slopes of
+/// the flat pieces of CSG (the hull of a wall's `[0, 0]` and another's `[10, 10]` is
+/// `[0, 10]`), where an affine form's rounding leaves a hair on both sides of 0: what
+/// the sign tests of [`crate::exclusion`] and [`crate::octree::monotone`] read.
+pub fn narrowed_gradient<S: Shape>(
+    shape: &S,
+    domain: &Aabb,
+    b: &Aabb,
+    g: &[(f64, f64); 3],
+) -> [(f64, f64); 3] {
+    let ia = cell_gradient::<IaArith, S>(shape, domain, b);
+    core::array::from_fn(|k| {
+        let (lo, hi) = ia.g[k].bounds();
+        // NaN on either side stays NaN (no sign test passes on it).
+        if lo.is_nan() || hi.is_nan() || g[k].0.is_nan() || g[k].1.is_nan() {
+            (f64::NAN, f64::NAN)
+        } else {
+            (lo.max(g[k].0), hi.min(g[k].1))
+        }
+    })
 }
 
 /// Whether the cell `b` of `shape` clipped to `domain` is certified.
