@@ -42,25 +42,32 @@ pub fn narrowed_gradient<S: Shape>(
     g: &[(f64, f64); 3],
 ) -> [(f64, f64); 3] {
     let ia = cell_gradient::<IaArith, S>(shape, domain, b);
+    meet(&ia.g.map(|r| r.bounds()), g)
+}
+
+/// The intersection of two enclosures of the same gradient's ranges (NaN on either
+/// side stays NaN: no sign test passes on it).
+pub fn meet(a: &[(f64, f64); 3], b: &[(f64, f64); 3]) -> [(f64, f64); 3] {
     core::array::from_fn(|k| {
-        let (lo, hi) = ia.g[k].bounds();
-        // NaN on either side stays NaN (no sign test passes on it).
-        if lo.is_nan() || hi.is_nan() || g[k].0.is_nan() || g[k].1.is_nan() {
+        let ((l0, h0), (l1, h1)) = (a[k], b[k]);
+        if l0.is_nan() || h0.is_nan() || l1.is_nan() || h1.is_nan() {
             (f64::NAN, f64::NAN)
         } else {
-            (lo.max(g[k].0), hi.min(g[k].1))
+            (l0.max(l1), h0.min(h1))
         }
     })
+}
+
+/// Whether the value `v` and gradient ranges `g` of a cell (in any arithmetic)
+/// certify it: 0 is not in `v`, or the inner product's lower bound is positive.
+pub fn certifies<R: Range>(v: &R, g: &[(f64, f64); 3]) -> bool {
+    !v.contains_zero() || inner_product_lower_bound(g) > 0.0
 }
 
 /// Whether the cell `b` of `shape` clipped to `domain` is certified.
 pub fn certified<A: Arithmetic, S: Shape>(shape: &S, domain: &Aabb, b: &Aabb) -> bool {
     let d = cell_gradient::<A, S>(shape, domain, b);
-    if !d.v.contains_zero() {
-        return true;
-    }
-    let g = d.g.map(|r| r.bounds());
-    inner_product_lower_bound(&g) > 0.0
+    certifies(&d.v, &d.g.map(|r| r.bounds()))
 }
 
 /// A lower bound of `⟨u, v⟩` over `u, v` in the box `g` (each component `[lo, hi]`),

@@ -38,11 +38,12 @@
 //! each leaf kept for contouring hands on ([`Descent::tapes`]).
 
 use super::cell_tape::{specialise_to, tape, CellTape};
-use super::certificate::{cell_gradient, inner_product_lower_bound, narrowed_gradient};
+use super::certificate::{cell_gradient, certifies, meet};
 use super::consistency::finer_topology;
 use super::exclusion::{gradient_verdict, interval_excludes, Test, Verdict};
 use super::grid::{cell_inputs, corner_mask, corner_of, crosses, Clipped, Grid};
 use arith_core::{Arithmetic, Range};
+use model_ir::arith::arith_ia::IaArith;
 use model_ir::shape::{Aabb, Shape};
 use model_ir::shape_batch::Batch;
 use rayon::prelude::*;
@@ -332,11 +333,19 @@ impl<S: Shape> Octree<'_, S> {
             // zero set only, which it shares with the shape, and it is the shortest.
             let b = self.grid.cell_box(level, c);
             d.certificates += 1;
-            let grad = cell_gradient::<A, S>(shape, &self.domain, &b);
-            let g = grad.g.map(|r| r.bounds());
-            let sure = !grad.v.contains_zero() || inner_product_lower_bound(&g) > 0.0;
-            if !sure && !monotone(&narrowed_gradient(shape, &self.domain, &b, &g)) {
-                self.check_pieces(shape, level, c, d);
+            // Interval arithmetic first, the cheapest: where it certifies the cell, so
+            // would any enclosure it holds. Else the arithmetic's tighter one, and the
+            // two ranges' intersection for the monotone test.
+            let ia = cell_gradient::<IaArith, S>(shape, &self.domain, &b);
+            let gi = ia.g.map(|r| r.bounds());
+            let mut sure = certifies(&ia.v, &gi);
+            if !sure {
+                let grad = cell_gradient::<A, S>(shape, &self.domain, &b);
+                let g = grad.g.map(|r| r.bounds());
+                sure = certifies(&grad.v, &g);
+                if !sure && !monotone(&meet(&gi, &g)) {
+                    self.check_pieces(shape, level, c, d);
+                }
             }
             d.cells.push(c);
             d.tapes.push(specialise_to(self.shape, value, &b));
@@ -472,7 +481,6 @@ mod tests {
     use super::*;
     use arith_core::Real;
     use glam::DVec3;
-    use model_ir::arith::arith_ia::IaArith;
 
     /// A ball of radius `.0` centred at `(.1, .1, .1)`.
     struct Ball(f64, f64);
