@@ -133,7 +133,14 @@ pub fn plan(a: &MeshArgs) -> Result<Plan, String> {
     if let Some(t) = &a.threads {
         crate::args::parse_threads(t)?;
     }
-    let model = crate::args::model_source(&a.src, a.domain.as_deref().map(|d| ("--domain", d)))?;
+    let mut model =
+        crate::args::model_source(&a.src, a.domain.as_deref().map(|d| ("--domain", d)))?;
+    // R-functions written out (as `.vm` tapes spell them) become one instruction each:
+    // the same value at every point, and sign tapes on which the mesher's range tests
+    // see them as the `min`/`max` they agree with in sign.
+    if let model_sources::AnyShape::Expr(t) = &model.shape {
+        model.shape = model_sources::AnyShape::Expr(t.fuse_hypot().fuse_rfunctions());
+    }
     let out = a
         .out
         .clone()

@@ -14,6 +14,7 @@
 use super::grid::{cell_inputs, Clipped};
 use arith_core::dual::Dual;
 use arith_core::{Arithmetic, Range};
+use model_ir::arith::arith_ia::IaArith;
 use model_ir::shape::{Aabb, Shape};
 
 /// The value and gradient of `shape` clipped to `domain` over the cell `b`, in the
@@ -28,14 +29,45 @@ pub fn cell_gradient<A: Arithmetic, S: Shape>(shape: &S, domain: &Aabb, b: &Aabb
     f.eval(Dual::var(x, 0), Dual::var(y, 1), Dual::var(z, 2))
 }
 
+/// The gradient's ranges `g` (from any arithmetic's [`cell_gradient`]) narrowed by
+/// interval arithmetic's: both enclose every gradient over the cell `b`, so their
+/// intersection does. Interval arithmetic keeps the exact 0 and the exact slopes of
+/// the flat pieces of CSG (the hull of a wall's `[0, 0]` and another's `[10, 10]` is
+/// `[0, 10]`), where an affine form's rounding leaves a hair on both sides of 0: what
+/// the sign tests of [`crate::exclusion`] and [`crate::octree::monotone`] read.
+pub fn narrowed_gradient<S: Shape>(
+    shape: &S,
+    domain: &Aabb,
+    b: &Aabb,
+    g: &[(f64, f64); 3],
+) -> [(f64, f64); 3] {
+    let ia = cell_gradient::<IaArith, S>(shape, domain, b);
+    meet(&ia.g.map(|r| r.bounds()), g)
+}
+
+/// The intersection of two enclosures of the same gradient's ranges (NaN on either
+/// side stays NaN: no sign test passes on it).
+pub fn meet(a: &[(f64, f64); 3], b: &[(f64, f64); 3]) -> [(f64, f64); 3] {
+    core::array::from_fn(|k| {
+        let ((l0, h0), (l1, h1)) = (a[k], b[k]);
+        if l0.is_nan() || h0.is_nan() || l1.is_nan() || h1.is_nan() {
+            (f64::NAN, f64::NAN)
+        } else {
+            (l0.max(l1), h0.min(h1))
+        }
+    })
+}
+
+/// Whether the value `v` and gradient ranges `g` of a cell (in any arithmetic)
+/// certify it: 0 is not in `v`, or the inner product's lower bound is positive.
+pub fn certifies<R: Range>(v: &R, g: &[(f64, f64); 3]) -> bool {
+    !v.contains_zero() || inner_product_lower_bound(g) > 0.0
+}
+
 /// Whether the cell `b` of `shape` clipped to `domain` is certified.
 pub fn certified<A: Arithmetic, S: Shape>(shape: &S, domain: &Aabb, b: &Aabb) -> bool {
     let d = cell_gradient::<A, S>(shape, domain, b);
-    if !d.v.contains_zero() {
-        return true;
-    }
-    let g = d.g.map(|r| r.bounds());
-    inner_product_lower_bound(&g) > 0.0
+    certifies(&d.v, &d.g.map(|r| r.bounds()))
 }
 
 /// A lower bound of `⟨u, v⟩` over `u, v` in the box `g` (each component `[lo, hi]`),

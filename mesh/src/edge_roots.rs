@@ -5,7 +5,8 @@
 //! evaluated over it as a dual number, so one evaluation encloses both `f` and its
 //! derivative along the edge. A segment whose range of `f` excludes 0 holds no root; a
 //! segment whose range of the derivative excludes 0 is monotone and holds exactly one
-//! root when its ends differ in sign, none otherwise: the root is *isolated* and then
+//! root when its ends differ in sign, none otherwise (so is one whose derivative in
+//! interval arithmetic has one sign, 0 allowed): the root is *isolated* and then
 //! refined on point values (regula falsi with the Illinois rule, safeguarded by
 //! bisection, so the bracket of a sign change shrinks at least by half every other
 //! step; superlinearly where `f` is smooth). Other segments are split, down to a minimum
@@ -19,6 +20,7 @@ use super::grid::Clipped;
 use arith_core::dual::Dual;
 use arith_core::{Arithmetic, Range, Real};
 use glam::DVec3;
+use model_ir::arith::arith_ia::Interval;
 use model_ir::shape::{Aabb, Shape};
 
 /// Segments narrower than this share of the edge are not split further.
@@ -29,6 +31,10 @@ const MAX_EVALS: u32 = 400;
 const REFINE_SHARE: f64 = 1.0 / (1u64 << 44) as f64;
 /// At most this many point evaluations refine one root (bisection alone needs 44).
 const REFINE_STEPS: u32 = 88;
+
+/// A derivative's range that holds 0 by less than this share of its larger end is
+/// checked for monotonicity in interval arithmetic ([`Edge::monotone`]).
+const HAIR: f64 = 1e-9;
 
 /// Tie tolerance of [`branches`], in edge lengths: sheets within about this distance
 /// of the crossing may meet it in one of the edge's cells.
@@ -126,6 +132,18 @@ impl<S: Shape> Edge<'_, S> {
         self.f.eval(x, y, z)
     }
 
+    /// Whether `f` is monotone on `[t0, t1]`, 0 allowed in its derivative: interval
+    /// arithmetic's derivative lies within `[0, ∞)` or `(-∞, 0]`. Where a crease
+    /// crosses the edge and one of its sheets is level along it, the derivative is the
+    /// hull of that sheet's exact 0 and the other's slope; an affine form's rounding
+    /// leaves a hair below 0 there, and the segment would be split down to the minimum
+    /// width. A weakly monotone `f` changes sign once at most: `f >= 0` holds on an
+    /// upper (or lower) part of the segment.
+    fn monotone(&self, t0: f64, t1: f64) -> bool {
+        let (lo, hi) = self.range::<Interval>(t0, t1).g[self.axis].bounds();
+        lo >= 0.0 || hi <= 0.0
+    }
+
     /// The sign-changing roots on `[0, len]` in increasing order, and the range
     /// evaluations spent.
     fn isolate<A: Arithmetic>(&self, len: f64) -> (Vec<f64>, u32) {
@@ -145,7 +163,17 @@ impl<S: Shape> Edge<'_, S> {
             if !r.v.contains_zero() {
                 continue;
             }
-            if !r.g[self.axis].contains_zero() || t1 - t0 <= min_w {
+            let d = &r.g[self.axis];
+            let one = !d.contains_zero() || t1 - t0 <= min_w || {
+                // Only where 0 is a hair inside (a rounded hull with 0), not across.
+                let (lo, hi) = d.bounds();
+                let hair = lo.abs().min(hi.abs()) <= HAIR * lo.abs().max(hi.abs());
+                hair && {
+                    evals += 1;
+                    self.monotone(t0, t1)
+                }
+            };
+            if one {
                 // Monotone: one root where the ends differ, none where they agree.
                 if s0 != s1 {
                     roots.push(self.refine(t0, t1, len));
@@ -234,6 +262,24 @@ mod tests {
         fn eval<R: Real>(&self, x: R, _y: R, _z: R) -> R {
             (x.clone() - 0.1) * (x.clone() - 0.2) * (x - 0.3)
         }
+    }
+
+    #[test]
+    fn a_crease_with_a_level_sheet_is_isolated_at_once() {
+        // Along the edge y = 0.1 the sheet 0.3 - y is level: the min's derivative is
+        // the hull of -1 and 0, which holds 0, yet f only falls.
+        struct Crease;
+        impl Shape for Crease {
+            fn eval<R: Real>(&self, x: R, y: R, _z: R) -> R {
+                x.rsub(0.5).min(&y.rsub(0.3))
+            }
+        }
+        let domain = Aabb::cube(2.0);
+        let c =
+            crossing::<RevAaArith, _>(&Crease, &domain, DVec3::new(0.0, 0.1, 0.5), 0, 1.0, false);
+        assert_eq!(c.roots, 1);
+        assert!((c.p.x - 0.5).abs() < 1e-12, "{c:?}");
+        assert!(c.evals <= 2, "{c:?}");
     }
 
     #[test]

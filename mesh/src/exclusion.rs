@@ -15,14 +15,22 @@
 //!   the cell lies within `Σ_i max|∂f/∂x_i| h_i / 2` of its value at the centre `c`.
 //!   Its width shrinks with the square of the cell's size faster than the function's
 //!   own variation, so a cell beside a surface that merely touches it is excluded a
-//!   level or two below the leaf instead of at the maximum depth.
+//!   level or two below the leaf instead of at the maximum depth;
+//! - the **monotone reduction**: along an axis where the gradient's range has one
+//!   sign, `f` is largest on one face of the cell and smallest on the opposite one,
+//!   so the range of `f` over the cell lies between its lowest value on the one face
+//!   and its highest on the other (each face a box of one dimension less, pinned on
+//!   every such axis: a corner where all three are). Exact on the flat faces and walls
+//!   of CSG, where the mean value form is not: a plane a hair outside a cell keeps its
+//!   centre's value within the form's spread at every level, so without it every
+//!   sub-cell along the plane stays open down to the maximum depth.
 //!
 //! The gradient's ranges come from the same evaluation over `Dual<A::Cell>` that the
 //! Plantinga–Vegter certificate needs, so the certificate costs nothing more. The
 //! value at the centre is enclosed in interval arithmetic at a point (sound after
 //! rounding), and the bound is rounded up.
 
-use super::certificate::{cell_gradient, inner_product_lower_bound};
+use super::certificate::{cell_gradient, inner_product_lower_bound, narrowed_gradient};
 use super::grid::{cell_inputs, Clipped};
 use arith_core::round::{add_up, mul_up};
 use arith_core::{Arithmetic, Range};
@@ -50,6 +58,9 @@ pub enum Test {
     Range,
     /// The mean value form around the cell's centre.
     MeanValue,
+    /// Interval arithmetic over the faces where `f` is largest and smallest, along
+    /// the axes where it is monotone.
+    Monotone,
 }
 
 /// Whether the interval range of `shape` clipped to `domain` over the box `b` excludes
@@ -79,6 +90,9 @@ pub fn gradient_verdict<A: Arithmetic, S: Shape>(shape: &S, domain: &Aabb, b: &A
     if mean_value_excludes(&f, b, &g) {
         return Verdict::Excluded(Test::MeanValue);
     }
+    if monotone_excludes(&f, b, &narrowed_gradient(shape, domain, b, &g)) {
+        return Verdict::Excluded(Test::Monotone);
+    }
     if inner_product_lower_bound(&g) > 0.0 {
         Verdict::Certified
     } else {
@@ -107,6 +121,48 @@ fn mean_value_excludes<S: Shape>(f: &S, b: &Aabb, g: &[(f64, f64); 3]) -> bool {
     let (lo, hi) = f.eval(point(c.x, 0), point(c.y, 1), point(c.z, 2)).bounds();
     // Written so that NaN answers "not excluded".
     lo - spread > 0.0 || hi + spread < 0.0
+}
+
+/// Whether the monotone reduction excludes 0 from `f` over the box `b`, `g` enclosing
+/// the gradient over it (every generalised gradient, for the piecewise smooth `f` of
+/// `min`/`max`/`abs`).
+///
+/// Why it is sound: let axis `i` have `g_i` within `[0, ∞)`. For `p` in `b`, move its
+/// `i`-th coordinate up to `b.max[i]`: the segment stays in the box, and by the mean
+/// value theorem (Lebourg's, for the Lipschitz `f` whose generalised gradients `g`
+/// encloses) `f` changes by `ζ_i t` with `ζ_i >= 0` and `t >= 0`, so it does not fall.
+/// Doing so on every such axis (down to `b.min[i]` where `g_i` lies within
+/// `(-∞, 0]`) takes `p` to a point `q` of the box `top` (those coordinates pinned)
+/// with `f(p) <= f(q)`; moving the other way, to a point of `bottom` with
+/// `f(p) >= f(q')`. So `f(b)` lies within `[min f(bottom), max f(top)]`, and interval
+/// arithmetic over both boxes (degenerate along the pinned axes, a point where all
+/// three are) encloses that hull. Where `f` is not Lipschitz (a root reaching 0) the
+/// gradient's range is unbounded and no axis is pinned; NaN pins nothing and excludes
+/// nothing.
+fn monotone_excludes<S: Shape>(f: &S, b: &Aabb, g: &[(f64, f64); 3]) -> bool {
+    let (mut top, mut bottom) = (*b, *b);
+    let mut pinned = false;
+    for (i, &(lo, hi)) in g.iter().enumerate() {
+        if lo >= 0.0 {
+            top.min[i] = b.max[i];
+            bottom.max[i] = b.min[i];
+        } else if hi <= 0.0 {
+            top.max[i] = b.min[i];
+            bottom.min[i] = b.max[i];
+        } else {
+            continue;
+        }
+        pinned = true;
+    }
+    if !pinned {
+        return false;
+    }
+    let bounds = |r: &Aabb| {
+        let [x, y, z] = cell_inputs::<Interval>(r);
+        f.eval(x, y, z).bounds()
+    };
+    // Written so that NaN answers "not excluded".
+    bounds(&top).1 < 0.0 || bounds(&bottom).0 > 0.0
 }
 
 #[cfg(test)]
@@ -168,6 +224,41 @@ mod tests {
             gradient_verdict::<RevAaArith, _>(&Ball, &d, &b),
             Verdict::Excluded(_)
         ));
+    }
+
+    #[test]
+    fn a_cell_beside_two_walls_is_excluded_by_monotonicity_alone() {
+        // Outside the edge x = z = 1 of two walls, each written with a term that is 0
+        // but that interval arithmetic widens (`y - y`): the min of the two walls ties
+        // across the box, so its gradient is the hull of both walls' and the mean value
+        // form's spread exceeds the centre's value; f falls along x and z.
+        struct Walls;
+        impl Shape for Walls {
+            fn eval<R: Real>(&self, x: R, y: R, z: R) -> R {
+                let zero = (y.clone() - y) * 0.5;
+                (z.rsub(1.0) - zero.clone()).min(&(x.rsub(1.0) - zero))
+            }
+        }
+        let d = Aabb::cube(4.0);
+        let f = Clipped {
+            inner: &Walls,
+            domain: d,
+        };
+        let b = Aabb::new(DVec3::new(1.001, 0.0, 1.001), DVec3::new(1.1, 0.5, 1.1));
+        assert!(!interval_excludes(&Walls, &d, &b));
+        let g = cell_gradient::<RevAaArith, _>(&Walls, &d, &b)
+            .g
+            .map(|r| r.bounds());
+        assert!(!mean_value_excludes(&f, &b, &g), "{g:?}");
+        // Interval arithmetic keeps the hull of 0 and -1 from reaching above 0.
+        let g = narrowed_gradient(&Walls, &d, &b, &g);
+        assert!(monotone_excludes(&f, &b, &g), "{g:?}");
+        // A box the walls cross is not excluded, whatever the gradient says.
+        let across = Aabb::new(DVec3::new(0.99, 0.0, 0.99), DVec3::new(1.1, 0.5, 1.1));
+        let g = cell_gradient::<RevAaArith, _>(&Walls, &d, &across)
+            .g
+            .map(|r| r.bounds());
+        assert!(!monotone_excludes(&f, &across, &g));
     }
 
     #[test]

@@ -10,7 +10,7 @@
 //!   leaf level for thin features, within a budget, and the leaf level is raised where
 //!   one is found (within a work limit, [`RISE_WORK`]); [`exclusion`]: the tighter
 //!   tests a probe puts each sub-cell to first (interval arithmetic, the mean value
-//!   form);
+//!   form, the monotone reduction);
 //! - [`edge_roots`]: each sign-changing edge's crossing by range-based root isolation,
 //!   the normal from dual numbers;
 //! - [`branches`]: every `min`/`max` branch's plane where branches tie at a crossing
@@ -295,9 +295,10 @@ pub struct MeshStats {
     pub unresolved_at_max_depth: u64,
     /// The box around the unresolved cells (`None` when there are none).
     pub unresolved_box: Option<Aabb>,
-    /// Cells that interval arithmetic or the mean value form excluded ([`exclusion`]):
-    /// leaves whose arithmetic's range held 0, and sub-cells of probes (interval
-    /// arithmetic, the cheapest, is tried before the arithmetic's range there).
+    /// Cells that interval arithmetic, the mean value form or the monotone reduction
+    /// excluded ([`exclusion`]): leaves whose arithmetic's range held 0, and sub-cells
+    /// of probes (interval arithmetic, the cheapest, is tried before the arithmetic's
+    /// range there).
     pub cells_excluded: u64,
     /// Leaves with a sign change (the cells contoured).
     pub surface_cells: u64,

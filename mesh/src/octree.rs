@@ -23,8 +23,9 @@
 //! cells are visited in a fixed order, so what the budget leaves is the same on every
 //! run; it is counted as unresolved, with the box around it ([`Descent::unresolved_box`]).
 //!
-//! A leaf with a sign change that is not certified is checked on a finer lattice of
-//! points ([`super::consistency`]): where the lattice shows another topology than the
+//! A leaf with a sign change that is not certified, nor monotone along every axis
+//! ([`monotone`]: then no lattice in it can show another topology), is checked on a
+//! finer lattice of points ([`super::consistency`]): where the lattice shows another topology than the
 //! corners (a thin shell through a corner), the leaf level must rise too. Each such
 //! leaf is checked once, at most `9^3` points in one batch evaluation of its own tape,
 //! so these checks are bounded by the mesh's size on their own and take nothing from
@@ -37,11 +38,12 @@
 //! each leaf kept for contouring hands on ([`Descent::tapes`]).
 
 use super::cell_tape::{specialise_to, tape, CellTape};
-use super::certificate::certified;
+use super::certificate::{cell_gradient, certifies, meet};
 use super::consistency::finer_topology;
 use super::exclusion::{gradient_verdict, interval_excludes, Test, Verdict};
 use super::grid::{cell_inputs, corner_mask, corner_of, crosses, Clipped, Grid};
 use arith_core::{Arithmetic, Range};
+use model_ir::arith::arith_ia::IaArith;
 use model_ir::shape::{Aabb, Shape};
 use model_ir::shape_batch::Batch;
 use rayon::prelude::*;
@@ -133,6 +135,15 @@ impl<S> Default for Descent<S> {
 impl<S> Descent<S> {
     /// Counts the cell `b` as unresolved.
     fn unresolved(&mut self, b: &Aabb) {
+        if std::env::var_os("MESH_DEBUG_UNRESOLVED").is_some() {
+            eprintln!(
+                "UNRES {} {} {} {}",
+                b.min.x,
+                b.min.y,
+                b.min.z,
+                b.max.x - b.min.x
+            );
+        }
         self.unresolved += 1;
         self.unresolved_box = union(self.unresolved_box, Some(*b));
     }
@@ -322,9 +333,19 @@ impl<S: Shape> Octree<'_, S> {
             // zero set only, which it shares with the shape, and it is the shortest.
             let b = self.grid.cell_box(level, c);
             d.certificates += 1;
-            let sure = certified::<A, S>(shape, &self.domain, &b);
+            // Interval arithmetic first, the cheapest: where it certifies the cell, so
+            // would any enclosure it holds. Else the arithmetic's tighter one, and the
+            // two ranges' intersection for the monotone test.
+            let ia = cell_gradient::<IaArith, S>(shape, &self.domain, &b);
+            let gi = ia.g.map(|r| r.bounds());
+            let mut sure = certifies(&ia.v, &gi);
             if !sure {
-                self.check_pieces(shape, level, c, d);
+                let grad = cell_gradient::<A, S>(shape, &self.domain, &b);
+                let g = grad.g.map(|r| r.bounds());
+                sure = certifies(&grad.v, &g);
+                if !sure && !monotone(&meet(&gi, &g)) {
+                    self.check_pieces(shape, level, c, d);
+                }
             }
             d.cells.push(c);
             d.tapes.push(specialise_to(self.shape, value, &b));
@@ -425,6 +446,23 @@ impl<S: Shape> Octree<'_, S> {
     }
 }
 
+/// Whether `g` (the gradient's ranges over a cell) has one sign on every axis, with
+/// 0 allowed: then no finer lattice can show another topology than the cell's
+/// corners.
+///
+/// Why: where `g_i` lies within `[0, ∞)`, `f` does not fall along axis `i` in the cell
+/// (the mean value theorem, as in [`super::exclusion`]), and where it lies within
+/// `(-∞, 0]` it does not rise. Flip the axes of the second kind: `f` is then
+/// non-decreasing along every axis, so a point inside (`f >= 0`) stays inside when
+/// any coordinate grows. On any lattice of the cell the inside points are an upper
+/// set: each is joined to the lattice's top corner by steps along the axes through
+/// inside points, so they are one 6-connected component (or none), and the outside
+/// points, a lower set, likewise. The corners' counts are the same: one component of
+/// each where both kinds of point occur. NaN has no sign and is never monotone.
+pub fn monotone(g: &[(f64, f64); 3]) -> bool {
+    g.iter().all(|&(lo, hi)| lo >= 0.0 || hi <= 0.0)
+}
+
 /// The box around both boxes (either may be missing).
 pub fn union(a: Option<Aabb>, b: Option<Aabb>) -> Option<Aabb> {
     match (a, b) {
@@ -443,7 +481,6 @@ mod tests {
     use super::*;
     use arith_core::Real;
     use glam::DVec3;
-    use model_ir::arith::arith_ia::IaArith;
 
     /// A ball of radius `.0` centred at `(.1, .1, .1)`.
     struct Ball(f64, f64);
@@ -482,6 +519,56 @@ mod tests {
             assert!(near.length() <= 0.6 && far.length() >= 0.6, "{c:?}");
         }
         assert_eq!(d.needs, 4);
+    }
+
+    #[test]
+    fn a_monotone_cell_shows_its_corners_topology_on_every_lattice() {
+        // A corner of three tilted planes (inside where all three are), and a slab a
+        // fifth of a cell thick through a plane of corners: where the gradient's ranges are monotone, the finer
+        // lattice agrees with the corners; across the slab they are not monotone.
+        struct Corner;
+        impl Shape for Corner {
+            fn eval<R: Real>(&self, x: R, y: R, z: R) -> R {
+                let a = x.clone().rsub(0.1);
+                let b = z.clone() * 0.3 - y * 0.5 + 0.05;
+                let c = (z + x * 0.2).rsub(0.02);
+                a.min(&b).min(&c)
+            }
+        }
+        struct Slab;
+        impl Shape for Slab {
+            fn eval<R: Real>(&self, x: R, _y: R, _z: R) -> R {
+                (x - 0.01).abs().rsub(0.03)
+            }
+        }
+        let domain = Aabb::cube(1.0);
+        let g = Grid::new(&domain, 3);
+        let (mut monotone_cells, mut slab_cells) = (0, 0);
+        for i in 0..512u32 {
+            let c = [i % 8, i / 8 % 8, i / 64];
+            let b = g.cell_box(3, c);
+            if crosses(corner_mask(&Corner, &domain, &g, 3, c)) {
+                let grad = cell_gradient::<IaArith, _>(&Corner, &domain, &b);
+                if monotone(&grad.g.map(|r| r.bounds())) {
+                    monotone_cells += 1;
+                    let (k, _) = finer_topology(&Corner, &domain, &g, 3, c, 3);
+                    assert_eq!(k, None, "{c:?}");
+                }
+            }
+            // The cells that hold the slab's middle (x = 0.01; the slab holds the
+            // corners at x = 0), away from the domain's walls (whose clip makes sign
+            // changes of its own): the cells beside, x < 0, hold one of its sheets.
+            let inner = c[1..].iter().all(|&k| (1..7).contains(&k));
+            if c[0] == 4 && inner && crosses(corner_mask(&Slab, &domain, &g, 3, c)) {
+                slab_cells += 1;
+                let grad = cell_gradient::<IaArith, _>(&Slab, &domain, &b);
+                assert!(!monotone(&grad.g.map(|r| r.bounds())), "{c:?}");
+            }
+        }
+        assert!(
+            monotone_cells > 10 && slab_cells > 0,
+            "{monotone_cells} {slab_cells}"
+        );
     }
 
     #[test]
