@@ -8,16 +8,14 @@
 //! values pick, a selection the branch its truth value picks, a step has zero
 //! partials; the R-functions are their compositions), so each lane is, bit for bit,
 //! what [`crate::Tape::eval`] gives over `Dual<f64>` (NaN payloads aside). No
-//! rounding is directed: these are points, as the point kernel's. `exp`, `ln`, `sin`
-//! and `cos` take their value and derivative from the lanes' functions, which `f64`'s
-//! `Real` computes alike within their domains (a block with a lane outside takes
-//! them lane by lane from the scalar functions, as `powi` always does), then the chain
-//! rule in lanes.
+//! rounding is directed: these are points, as the point kernel's. `exp`, `ln`, `sin`,
+//! `cos` and `powi` take their value and derivative lane by lane from the scalar
+//! functions, then the chain rule in lanes.
 
 use super::parts::{PartOps, Step};
-use super::points::{domain, real_max, real_min, real_sqrt};
+use super::points::{real_max, real_min, real_sqrt};
 use crate::instr::{Instr, Op};
-use arith_core::lanes::{cos, exp, ln, sin, F64x8, Isa, LANES};
+use arith_core::lanes::{F64x8, Isa, LANES};
 use arith_core::Real;
 
 /// The gradient kernel's values ([`super::parts`]): four blocks per register and block
@@ -238,27 +236,6 @@ fn scalar_chain<I: Isa>(s: I, i: &Instr, a: D<I::V>) -> D<I::V> {
     chain(s, a, v, dv)
 }
 
-/// `exp`, `ln`, `sin` or `cos` of eight dual numbers: the value and derivative from the
-/// lanes' functions (as [`value_slope`] computes them, within the functions' domains;
-/// a block with a lane outside goes through [`scalar_chain`]), then the chain rule.
-#[inline(always)]
-fn elementary_chain<I: Isa>(s: I, i: &Instr, a: D<I::V>) -> D<I::V> {
-    let x = a.v;
-    if s.bits(domain(s, i.op, x)) != u8::MAX {
-        return scalar_chain(s, i, a);
-    }
-    let (v, dv) = match i.op {
-        Op::Exp => {
-            let e = exp(s, x);
-            (e, e)
-        }
-        Op::Ln => (ln(s, x), s.div(s.splat(1.0), x)),
-        Op::Sin => (sin(s, x), cos(s, x)),
-        _ => (cos(s, x), s.neg(sin(s, x))),
-    };
-    chain(s, a, v, dv)
-}
-
 /// Eight dual numbers from their [`PARTS`] blocks.
 #[inline(always)]
 fn load<I: Isa>(s: I, p: &[F64x8; PARTS]) -> D<I::V> {
@@ -310,8 +287,7 @@ impl PartOps for Duals {
             Op::Neg => un!(|x| neg(s, x)),
             Op::Sqr => un!(|x| sqr(s, x)),
             Op::Powi if i.n == 0 => op!(|_ops| constant(s, 1.0)),
-            Op::Exp | Op::Ln | Op::Sin | Op::Cos => un!(|x| elementary_chain(s, i, x)),
-            Op::Powi => un!(|x| scalar_chain(s, i, x)),
+            Op::Exp | Op::Ln | Op::Sin | Op::Cos | Op::Powi => un!(|x| scalar_chain(s, i, x)),
             Op::Sqrt => un!(|x| sqrt(s, x)),
             Op::Recip => un!(|x| recip(s, x)),
             // `Dual::abs` is `max(x, -x)`.

@@ -50,10 +50,9 @@ fn redo(i: &Instr, inside: u8, x: &F64x8, out: &mut F64x8) {
     }
 }
 
-/// Which lanes of `x` lie in the proven domain of the lanes' function of `op` (`exp`,
-/// `ln`, `sin` or `cos`), where `f64`'s `Real` computes it alike.
+/// Which lanes of `x` lie in the proven domain of `op`'s lane function.
 #[inline(always)]
-pub(super) fn domain<I: Isa>(s: I, op: Op, x: I::V) -> I::M {
+fn domain<I: Isa>(s: I, op: Op, x: I::V) -> I::M {
     match op {
         Op::Exp => s.le(s.abs(x), s.splat(EXP_MAX_ARG)),
         Op::Ln => s.and(
