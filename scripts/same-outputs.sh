@@ -52,7 +52,7 @@ for m in $models; do
     for a in ia revaa; do
         if "$TRACER" mesh "$m" --arith "$a" --depth "$depth" --quiet --stats json \
             --out "$tmp/m.ply" > "$tmp/s.txt" 2> "$tmp/e.txt"; then
-            sed -E 's/"wall_s": [0-9.e-]+, //' "$tmp/s.txt" > "$tmp/c.txt"
+            sed -E 's/"(check_)?wall_s": [0-9.e-]+, //g' "$tmp/s.txt" > "$tmp/c.txt"
             echo "mesh $m $a ply=$(h "$tmp/m.ply") stats=$(h "$tmp/c.txt")"
         else
             echo "mesh $m $a refused: $(head -c 80 "$tmp/e.txt")"

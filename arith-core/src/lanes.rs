@@ -41,8 +41,8 @@ mod wide2;
 mod x86;
 
 pub use elementary::{
-    cos, exp, exp_enclosure, ln, ln_enclosure, sin, trig_enclosure, ELEMENTARY_REL, EXP_MAX_ARG,
-    TRIG_ABS, TRIG_MAX_ARG,
+    cos, cos_f64, exp, exp_enclosure, exp_f64, ln, ln_enclosure, ln_f64, sin, sin_f64,
+    trig_enclosure, ELEMENTARY_REL, EXP_MAX_ARG, TRIG_ABS, TRIG_MAX_ARG,
 };
 pub use emulated::Emulated;
 pub use wide2::Avx2;

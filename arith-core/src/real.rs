@@ -1,6 +1,7 @@
 //! The two traits every model and arithmetic is written against.
 
 use crate::branch::Step;
+use crate::lanes;
 use core::fmt::Debug;
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
@@ -255,21 +256,47 @@ impl Real for f64 {
     fn recip(&self) -> Self {
         1.0 / self
     }
+    /// The lanes' `exp` ([`lanes::exp_f64`], within 9 ulp-units) for
+    /// `|x| <= EXP_MAX_ARG`, so that a point evaluated alone and in lanes gives the
+    /// same bits; libm's beyond.
     fn exp(&self) -> Self {
-        f64::exp(*self)
-    }
-    fn ln(&self) -> Self {
-        if *self <= 0.0 {
-            f64::NEG_INFINITY
+        let x = *self;
+        if x.abs() <= lanes::EXP_MAX_ARG {
+            lanes::exp_f64(x)
         } else {
-            f64::ln(*self)
+            f64::exp(x)
         }
     }
-    fn sin(&self) -> Self {
-        f64::sin(*self)
+    /// `-inf` for `x <= 0`; the lanes' `ln` ([`lanes::ln_f64`]) for positive normal
+    /// `x` (see [`Real::exp`] for `f64`); libm's elsewhere (subnormal, infinite, NaN).
+    fn ln(&self) -> Self {
+        let x = *self;
+        if x <= 0.0 {
+            f64::NEG_INFINITY
+        } else if (f64::MIN_POSITIVE..f64::INFINITY).contains(&x) {
+            lanes::ln_f64(x)
+        } else {
+            f64::ln(x)
+        }
     }
+    /// The lanes' `sin` ([`lanes::sin_f64`]) for `|x| <= TRIG_MAX_ARG` (see
+    /// [`Real::exp`] for `f64`); libm's beyond.
+    fn sin(&self) -> Self {
+        let x = *self;
+        if x.abs() <= lanes::TRIG_MAX_ARG {
+            lanes::sin_f64(x)
+        } else {
+            f64::sin(x)
+        }
+    }
+    /// The lanes' `cos` ([`lanes::cos_f64`]) for `|x| <= TRIG_MAX_ARG`; libm's beyond.
     fn cos(&self) -> Self {
-        f64::cos(*self)
+        let x = *self;
+        if x.abs() <= lanes::TRIG_MAX_ARG {
+            lanes::cos_f64(x)
+        } else {
+            f64::cos(x)
+        }
     }
     fn abs(&self) -> Self {
         f64::abs(*self)

@@ -1,5 +1,6 @@
 //! The lanes' `exp`, `ln`, `sin` and `cos` (`arith_core::lanes`), which the interval
-//! kernel runs: on every path the same bits as on the emulated one; within their
+//! and point kernels run: on every path, and for one `f64` alone (`f64`'s `Real`
+//! functions), the same bits as on the emulated one; within their
 //! proven error (`ELEMENTARY_REL`, and `TRIG_ABS` for `sin` and `cos`) of the 256-bit
 //! reference over their domains; their enclosures hold the reference; and the interval
 //! kernel's ranges hold the reference at both ends of random intervals (special ones
@@ -9,8 +10,8 @@
 mod common;
 
 use arith_core::lanes::{
-    cos, dispatch, exp, exp_enclosure, ln, ln_enclosure, sin, trig_enclosure, F64x8, Isa, Kernel,
-    Path, ELEMENTARY_REL, EXP_MAX_ARG, TRIG_ABS, TRIG_MAX_ARG,
+    cos, cos_f64, dispatch, exp, exp_enclosure, exp_f64, ln, ln_enclosure, ln_f64, sin, sin_f64,
+    trig_enclosure, F64x8, Isa, Kernel, Path, ELEMENTARY_REL, EXP_MAX_ARG, TRIG_ABS, TRIG_MAX_ARG,
 };
 use arith_core::testkit::checks::{cases, run};
 use arith_core::testkit::mp::{Mp, Verdict};
@@ -87,6 +88,18 @@ fn check(f: F, x: f64) -> Result<(), TestCaseError> {
             other.0
         );
     }
+    let alone = match f {
+        F::Exp => (exp_f64(x), Real::exp(&x)),
+        F::Ln => (ln_f64(x), Real::ln(&x)),
+        F::Sin => (sin_f64(x), Real::sin(&x)),
+        F::Cos => (cos_f64(x), Real::cos(&x)),
+    };
+    prop_assert!(
+        alone.0.to_bits() == v.to_bits() && alone.1.to_bits() == v.to_bits(),
+        "{f:?}({x:e}) = {v:e} in lanes, {:e} alone, {:e} as f64's Real",
+        alone.0,
+        alone.1
+    );
     let r = reference(f, x);
     let abs = if matches!(f, F::Sin | F::Cos) {
         TRIG_ABS

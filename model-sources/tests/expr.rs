@@ -146,8 +146,10 @@ fn cases() -> Vec<Case> {
         }),
         ("sqrt(x^2 + y^2) - 0.5", |x, y, _| (x * x + y * y).sqrt() - 0.5),
         ("sqrt(x)", |x, _, _| x.max(0.0).sqrt()),
-        ("exp(x) * ln(y)", |x, y, _| x.exp() * Real::ln(&y)),
-        ("sin(3*x) + cos(y / 2)", |x, y, _| (3.0 * x).sin() + (y / 2.0).cos()),
+        ("exp(x) * ln(y)", |x, y, _| Real::exp(&x) * Real::ln(&y)),
+        ("sin(3*x) + cos(y / 2)", |x, y, _| {
+            Real::sin(&(3.0 * x)) + Real::cos(&(y / 2.0))
+        }),
         ("abs(x) - min(y, z) + max(x, -z)", |x, y, z| {
             x.abs() - y.min(z) + x.max(-z)
         }),

@@ -1,13 +1,16 @@
 //! `exp`, `ln`, `sin` and `cos` in lanes, with proven error bounds, and their
 //! enclosures.
 //!
-//! Both functions use only round-to-nearest lane operations (`+ - * / fma`, and the
-//! exact [`Isa::scale_pow2`] and [`Isa::split_pow2`]), so every path computes the same
-//! bits. Each is within [`ELEMENTARY_REL`] (relative) of the exact value where it is
-//! defined here; the enclosures widen a computed value `v` by `|v| LIBM_REL + ETA`,
-//! the margin the scalar arithmetic allows libm ([`crate::round::libm_enclose`]), which
-//! this bound, unlike libm's, is proven to satisfy. Lanes outside the domains below get
-//! some value; the kernels redo them through the scalar functions.
+//! The functions use only round-to-nearest operations (`+ - * / fma`, and the exact
+//! [`Isa::scale_pow2`] and [`Isa::split_pow2`]), so every path computes the same bits,
+//! and so do the one-`f64` forms [`exp_f64`], [`ln_f64`], [`sin_f64`] and [`cos_f64`],
+//! which `f64`'s [`crate::Real`] functions use within these domains: a point
+//! evaluated alone and in lanes gives the same number. Each is within
+//! [`ELEMENTARY_REL`] (relative) of the exact value where it is defined here; the
+//! enclosures widen a computed value `v` by `|v| LIBM_REL + ETA`, the margin the scalar
+//! arithmetic allows libm ([`crate::round::libm_enclose`]), which this bound, unlike
+//! libm's, is proven to satisfy. Lanes outside the domains below get some value; the
+//! kernels redo them through the scalar functions.
 //!
 //! Notation: `u = 2^-53`, the unit roundoff; every rounded operation `o` gives
 //! `o(1 + d)` with `|d| <= u` (no underflow occurs in the domains below).
@@ -106,6 +109,7 @@
 //! `|v - f| < 16 u |v| + 2 a`, and the margin is `|v| LIBM_REL + |k| 2^-100 + 4 ETA`,
 //! computed with upward rounding (at most [`TRIG_ABS`] more than `|v| LIBM_REL`).
 
+use super::emulated::{scale_pow2, split_pow2};
 use super::Isa;
 use crate::round::{ETA, LIBM_REL, U};
 
@@ -198,9 +202,158 @@ const ATANH_COEFFS: [f64; 12] = [
     1.0,
 ];
 
+/// The round-to-nearest operations the functions are written in: a lane path's
+/// ([`Isa`]), or those of one `f64` ([`One`]). Every operation is an IEEE operation
+/// rounded to nearest or exact, so one `f64` gets, bit for bit, what each lane gets.
+trait Ops: Copy {
+    type V: Copy;
+    type M: Copy;
+    fn splat(self, c: f64) -> Self::V;
+    fn add(self, a: Self::V, b: Self::V) -> Self::V;
+    fn sub(self, a: Self::V, b: Self::V) -> Self::V;
+    fn mul(self, a: Self::V, b: Self::V) -> Self::V;
+    fn div(self, a: Self::V, b: Self::V) -> Self::V;
+    fn fma(self, a: Self::V, b: Self::V, c: Self::V) -> Self::V;
+    fn neg(self, a: Self::V) -> Self::V;
+    fn abs(self, a: Self::V) -> Self::V;
+    fn eq(self, a: Self::V, b: Self::V) -> Self::M;
+    fn or(self, a: Self::M, b: Self::M) -> Self::M;
+    fn select(self, m: Self::M, a: Self::V, b: Self::V) -> Self::V;
+    fn scale_pow2(self, a: Self::V, k: Self::V) -> Self::V;
+    fn split_pow2(self, x: Self::V) -> (Self::V, Self::V);
+}
+
+impl<I: Isa> Ops for I {
+    type V = I::V;
+    type M = I::M;
+    #[inline(always)]
+    fn splat(self, c: f64) -> I::V {
+        Isa::splat(self, c)
+    }
+    #[inline(always)]
+    fn add(self, a: I::V, b: I::V) -> I::V {
+        Isa::add(self, a, b)
+    }
+    #[inline(always)]
+    fn sub(self, a: I::V, b: I::V) -> I::V {
+        Isa::sub(self, a, b)
+    }
+    #[inline(always)]
+    fn mul(self, a: I::V, b: I::V) -> I::V {
+        Isa::mul(self, a, b)
+    }
+    #[inline(always)]
+    fn div(self, a: I::V, b: I::V) -> I::V {
+        Isa::div(self, a, b)
+    }
+    #[inline(always)]
+    fn fma(self, a: I::V, b: I::V, c: I::V) -> I::V {
+        Isa::fma(self, a, b, c)
+    }
+    #[inline(always)]
+    fn neg(self, a: I::V) -> I::V {
+        Isa::neg(self, a)
+    }
+    #[inline(always)]
+    fn abs(self, a: I::V) -> I::V {
+        Isa::abs(self, a)
+    }
+    #[inline(always)]
+    fn eq(self, a: I::V, b: I::V) -> I::M {
+        Isa::eq(self, a, b)
+    }
+    #[inline(always)]
+    fn or(self, a: I::M, b: I::M) -> I::M {
+        Isa::or(self, a, b)
+    }
+    #[inline(always)]
+    fn select(self, m: I::M, a: I::V, b: I::V) -> I::V {
+        Isa::select(self, m, a, b)
+    }
+    #[inline(always)]
+    fn scale_pow2(self, a: I::V, k: I::V) -> I::V {
+        Isa::scale_pow2(self, a, k)
+    }
+    #[inline(always)]
+    fn split_pow2(self, x: I::V) -> (I::V, I::V) {
+        Isa::split_pow2(self, x)
+    }
+}
+
+/// One `f64`, with the emulated path's operations on one lane.
+#[derive(Clone, Copy)]
+struct One;
+
+impl Ops for One {
+    type V = f64;
+    type M = bool;
+    #[inline(always)]
+    fn splat(self, c: f64) -> f64 {
+        c
+    }
+    #[inline(always)]
+    fn add(self, a: f64, b: f64) -> f64 {
+        a + b
+    }
+    #[inline(always)]
+    fn sub(self, a: f64, b: f64) -> f64 {
+        a - b
+    }
+    #[inline(always)]
+    fn mul(self, a: f64, b: f64) -> f64 {
+        a * b
+    }
+    #[inline(always)]
+    fn div(self, a: f64, b: f64) -> f64 {
+        a / b
+    }
+    #[inline(always)]
+    fn fma(self, a: f64, b: f64, c: f64) -> f64 {
+        a.mul_add(b, c)
+    }
+    #[inline(always)]
+    fn neg(self, a: f64) -> f64 {
+        -a
+    }
+    #[inline(always)]
+    fn abs(self, a: f64) -> f64 {
+        a.abs()
+    }
+    #[inline(always)]
+    fn eq(self, a: f64, b: f64) -> bool {
+        a == b
+    }
+    #[inline(always)]
+    fn or(self, a: bool, b: bool) -> bool {
+        a | b
+    }
+    #[inline(always)]
+    fn select(self, m: bool, a: f64, b: f64) -> f64 {
+        if m {
+            a
+        } else {
+            b
+        }
+    }
+    #[inline(always)]
+    fn scale_pow2(self, a: f64, k: f64) -> f64 {
+        scale_pow2(a, k)
+    }
+    #[inline(always)]
+    fn split_pow2(self, x: f64) -> (f64, f64) {
+        split_pow2(x)
+    }
+}
+
 /// `exp(x)` within [`ELEMENTARY_REL`] for `|x| <= EXP_MAX_ARG`.
 #[inline(always)]
 pub fn exp<I: Isa>(s: I, x: I::V) -> I::V {
+    exp_in(s, x)
+}
+
+/// `exp` in `O`'s operations.
+#[inline(always)]
+fn exp_in<O: Ops>(s: O, x: O::V) -> O::V {
     let shift = s.splat(SHIFT);
     let k = s.sub(s.fma(x, s.splat(LOG2_E), shift), shift);
     let r = s.fma(s.neg(k), s.splat(LN2_HI), x);
@@ -215,6 +368,12 @@ pub fn exp<I: Isa>(s: I, x: I::V) -> I::V {
 /// `ln(x)` within [`ELEMENTARY_REL`] for positive normal `x`.
 #[inline(always)]
 pub fn ln<I: Isa>(s: I, x: I::V) -> I::V {
+    ln_in(s, x)
+}
+
+/// `ln` in `O`'s operations.
+#[inline(always)]
+fn ln_in<O: Ops>(s: O, x: O::V) -> O::V {
     let one = s.splat(1.0);
     let (m, e) = s.split_pow2(x);
     let sv = s.div(s.sub(m, one), s.add(m, one));
@@ -232,7 +391,12 @@ pub fn ln<I: Isa>(s: I, x: I::V) -> I::V {
 /// (relative to the exact value): `v` widened by `|v| LIBM_REL + ETA`, rounded outward.
 #[inline(always)]
 fn widen<I: Isa>(s: I, v: I::V) -> (I::V, I::V) {
-    let m = s.fma(s.abs(v), s.splat(LIBM_REL), s.splat(ETA));
+    let m = Isa::fma(
+        s,
+        Isa::abs(s, v),
+        Isa::splat(s, LIBM_REL),
+        Isa::splat(s, ETA),
+    );
     (s.sub_down_raw(v, m), s.add_up_raw(v, m))
 }
 
@@ -251,7 +415,7 @@ pub fn ln_enclosure<I: Isa>(s: I, x: I::V) -> (I::V, I::V) {
 /// `sin(x)` (`cos`: `cos(x)`) within `3.9 u |f(x)| + |k| 8.6e-32 + 2 ETA` for
 /// `|x| <= TRIG_MAX_ARG`, and `k`, the multiple of `pi/2` taken off `x`.
 #[inline(always)]
-fn trig<I: Isa>(s: I, x: I::V, cos: bool) -> (I::V, I::V) {
+fn trig<O: Ops>(s: O, x: O::V, cos: bool) -> (O::V, O::V) {
     let shift = s.splat(SHIFT);
     let k = s.sub(s.fma(x, s.splat(FRAC_2_PI), shift), shift);
     let nk = s.neg(k);
@@ -300,7 +464,37 @@ const TRIG_PER_K: f64 = 7.888_609_052_210_118e-31;
 #[inline(always)]
 pub fn trig_enclosure<I: Isa>(s: I, x: I::V, cos: bool) -> (I::V, I::V) {
     let (v, k) = trig(s, x, cos);
-    let abs = s.fma(s.abs(k), s.splat(TRIG_PER_K), s.splat(4.0 * ETA));
-    let m = s.add_up_raw(s.mul_up_raw(s.abs(v), s.splat(LIBM_REL)), abs);
+    let (per_k, eta4) = (Isa::splat(s, TRIG_PER_K), Isa::splat(s, 4.0 * ETA));
+    let abs = Isa::fma(s, Isa::abs(s, k), per_k, eta4);
+    let rel = s.mul_up_raw(Isa::abs(s, v), Isa::splat(s, LIBM_REL));
+    let m = s.add_up_raw(rel, abs);
     (s.sub_down_raw(v, m), s.add_up_raw(v, m))
+}
+
+/// [`exp`] of one `f64`: the bits each lane of [`exp`] gets for `x` (within
+/// [`ELEMENTARY_REL`] for `|x| <= EXP_MAX_ARG`; some value elsewhere).
+#[inline]
+pub fn exp_f64(x: f64) -> f64 {
+    exp_in(One, x)
+}
+
+/// [`ln`] of one `f64`: the bits each lane of [`ln`] gets for `x` (within
+/// [`ELEMENTARY_REL`] for positive normal `x`; some value elsewhere).
+#[inline]
+pub fn ln_f64(x: f64) -> f64 {
+    ln_in(One, x)
+}
+
+/// [`sin`] of one `f64`: the bits each lane of [`sin`] gets for `x` (bounded as
+/// [`sin`] for `|x| <= TRIG_MAX_ARG`; some value elsewhere).
+#[inline]
+pub fn sin_f64(x: f64) -> f64 {
+    trig(One, x, false).0
+}
+
+/// [`cos`] of one `f64`: the bits each lane of [`cos`] gets for `x` (bounded as
+/// [`cos`] for `|x| <= TRIG_MAX_ARG`; some value elsewhere).
+#[inline]
+pub fn cos_f64(x: f64) -> f64 {
+    trig(One, x, true).0
 }

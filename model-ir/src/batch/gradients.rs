@@ -210,12 +210,12 @@ fn blend_root<I: Isa>(s: I, a: D<I::V>, b: D<I::V>) -> D<I::V> {
 fn value_slope(i: &Instr, x: f64) -> (f64, f64) {
     match i.op {
         Op::Exp => {
-            let e = x.exp();
+            let e = Real::exp(&x);
             (e, e)
         }
         Op::Ln => (Real::ln(&x), Real::recip(&x)),
-        Op::Sin => (x.sin(), x.cos()),
-        Op::Cos => (x.cos(), -x.sin()),
+        Op::Sin => (Real::sin(&x), Real::cos(&x)),
+        Op::Cos => (Real::cos(&x), -Real::sin(&x)),
         _ => (
             Real::powi(&x, i.n),
             Real::powi(&x, i.n - 1) * f64::from(i.n),

@@ -40,6 +40,9 @@ use arith_ia::Interval;
 /// index, the lower bounds, then the upper ones.
 pub(crate) struct Intervals;
 
+/// One block's three operands.
+type Ops3<'a> = (&'a [F64x8; 2], &'a [F64x8; 2], &'a [F64x8; 2]);
+
 /// Lower and upper bounds of eight intervals in registers.
 type P<I> = (<I as Isa>::V, <I as Isa>::V);
 
@@ -310,7 +313,8 @@ impl PartOps for Intervals {
                     *out = [s.store(lo), s.store(hi)];
                     let bad = s.bits(bad);
                     if bad != 0 {
-                        redo(i, ops, out, bad);
+                        let [a, b, e] = ops;
+                        redo(i, (a, b, e), out, bad);
                     }
                 })
             };
@@ -389,10 +393,13 @@ impl PartOps for Intervals {
 }
 
 /// Redoes the lanes of `bad` of one block through the scalar operation, from the
-/// operands' blocks `ops`.
+/// operands' blocks `ops`. (The operands come as a tuple of three references, which
+/// the calling convention passes in registers: an array would be built on the stack
+/// in every block of the hot loop.)
 #[cold]
 #[inline(never)]
-fn redo(i: &Instr, ops: [&[F64x8; 2]; 3], out: &mut [F64x8; 2], bad: u8) {
+fn redo(i: &Instr, ops: Ops3<'_>, out: &mut [F64x8; 2], bad: u8) {
+    let ops = [ops.0, ops.1, ops.2];
     for l in 0..LANES {
         if bad & (1 << l) != 0 {
             let v = |k: usize| Interval {

@@ -1,13 +1,16 @@
 //! The point kernel: a tape over eight-lane blocks of `f64` points. Each instruction
 //! runs as lane instructions over every block of the batch (plain IEEE operations,
 //! bit for bit the scalar `f64` evaluation's, whose operations `arith_core::Real`
-//! for `f64` fixes); `exp`, `ln`, `sin`, `cos`, `powi` and the R-functions go lane by
-//! lane through the scalar operation.
+//! for `f64` fixes). `exp`, `ln`, `sin` and `cos` are the lanes' functions
+//! ([`arith_core::lanes::exp`] and the others), which `f64`'s `Real` computes alike
+//! within their domains; lanes outside a domain (rare: `|x| > 700` for `exp`, zero,
+//! subnormal, infinite or NaN for `ln`, `|x| > 10^5` for `sin` and `cos`), `powi` and
+//! the R-functions go lane by lane through the scalar operation.
 
 use super::parts::{PartOps, Step};
 use crate::eval::apply;
-use crate::instr::Op;
-use arith_core::lanes::{F64x8, Isa};
+use crate::instr::{Instr, Op};
+use arith_core::lanes::{cos, exp, ln, sin, F64x8, Isa, EXP_MAX_ARG, LANES, TRIG_MAX_ARG};
 
 /// The point kernel's values ([`super::parts`]): one block per register and block
 /// index.
@@ -33,6 +36,31 @@ pub(super) fn real_max<I: Isa>(s: I, a: I::V, b: I::V) -> I::V {
 pub(super) fn real_sqrt<I: Isa>(s: I, a: I::V) -> I::V {
     let zero = s.splat(0.0);
     s.sqrt(s.select(s.lt(zero, a), a, zero))
+}
+
+/// The lanes of `out` not in `inside` recomputed through the scalar operation of `i`
+/// on `x` (the kernels' rare lanes outside a function's domain).
+#[cold]
+#[inline(never)]
+fn redo(i: &Instr, inside: u8, x: &F64x8, out: &mut F64x8) {
+    for l in 0..LANES {
+        if inside & (1 << l) == 0 {
+            out.0[l] = apply(i, x.0[l], x.0[l], x.0[l]);
+        }
+    }
+}
+
+/// Which lanes of `x` lie in the proven domain of `op`'s lane function.
+#[inline(always)]
+fn domain<I: Isa>(s: I, op: Op, x: I::V) -> I::M {
+    match op {
+        Op::Exp => s.le(s.abs(x), s.splat(EXP_MAX_ARG)),
+        Op::Ln => s.and(
+            s.le(s.splat(f64::MIN_POSITIVE), x),
+            s.lt(x, s.splat(f64::INFINITY)),
+        ),
+        _ => s.le(s.abs(x), s.splat(TRIG_MAX_ARG)),
+    }
 }
 
 impl PartOps for Points {
@@ -95,6 +123,20 @@ impl PartOps for Points {
                     *o = s.store(s.select(m, s.load(t), s.load(f)));
                 })
             }
+            Op::Exp | Op::Ln | Op::Sin | Op::Cos => at.each::<1>(|[o], [[x], _, _]| {
+                let v = s.load(x);
+                let r = match i.op {
+                    Op::Exp => exp(s, v),
+                    Op::Ln => ln(s, v),
+                    Op::Sin => sin(s, v),
+                    _ => cos(s, v),
+                };
+                *o = s.store(r);
+                let inside = s.bits(domain(s, i.op, v));
+                if inside != u8::MAX {
+                    redo(i, inside, x, o);
+                }
+            }),
             // Lane by lane through the scalar operation.
             _ => at.each::<1>(|[o], [[x], [y], [z]]| {
                 *o = F64x8(core::array::from_fn(|l| apply(i, x.0[l], y.0[l], z.0[l])));
