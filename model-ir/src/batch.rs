@@ -197,7 +197,7 @@ impl Tape {
                     }
                 },
             );
-        } else if is_revaa::<R>() && (path == Path::Emulated || !path.available()) {
+        } else if is_revaa::<R>() && !revaa_lanes(path) {
             // Without SIMD lanes the directed sums of `min` and `max` cost more than the
             // generic loop over four-form packs, which gives the same bits.
             self.batch_generic(x, y, z, out);
@@ -511,8 +511,14 @@ pub fn lane_kernel<R: 'static>() -> bool {
         TypeId::of::<Dual<f64>>(),
     ];
     let revaa = [TypeId::of::<RevAa<1>>(), TypeId::of::<RevAa<3>>()];
-    let path = Path::current();
-    plain.contains(&id) || (revaa.contains(&id) && path != Path::Emulated && path.available())
+    plain.contains(&id) || (revaa.contains(&id) && revaa_lanes(Path::current()))
+}
+
+/// Whether RevAA forms run the lane kernel on `path`: on the hardware paths this
+/// processor has (emulated, the directed sums of `min` and `max` cost more than the
+/// generic loop over four-form packs).
+fn revaa_lanes(path: Path) -> bool {
+    path != Path::Emulated && path.available()
 }
 
 /// Whether `R` is a revised affine form of the RevAA kernel.

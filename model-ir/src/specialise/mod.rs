@@ -239,17 +239,24 @@ impl Tape {
                 return t.clone();
             }
         }
-        let t = rebuild(ins, Some(&spec.sign_only), Fold::Sign, decisions);
-        let t = Tape::specialised(t, spec.affine_bounds());
-        // (`a \ b` as `min(a, -b)` can take one more instruction.)
-        let kept = t.len() < ins.len() || spec.r_functions && t.len() <= ins.len() + spec.subtracts;
-        let t = kept.then_some(t);
+        let t = spec.sign_tape(ins, decisions);
         if let Ok(mut cache) = shared.cache.lock() {
             if cache.len() < CACHE_LIMIT {
                 cache.insert(key.to_vec(), t.clone());
             }
         }
         t
+    }
+}
+
+impl Specialiser {
+    /// The sign-specialised tape of `ins` with `decisions`, `None` when it is no
+    /// shorter (or, with R-functions turned into `min` and `max`, longer than by the
+    /// negations `a \ b` needs as `min(a, -b)`).
+    fn sign_tape(&self, ins: &[Instr], decisions: &[u8]) -> Option<Tape> {
+        let t = rebuild(ins, Some(&self.sign_only), Fold::Sign, decisions);
+        let kept = t.len() < ins.len() || self.r_functions && t.len() <= ins.len() + self.subtracts;
+        kept.then(|| Tape::specialised(t, self.affine_bounds()))
     }
 }
 

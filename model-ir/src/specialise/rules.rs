@@ -249,10 +249,19 @@ impl Specialiser {
                 };
             }
         }
-        let mut gone = Vec::new();
-        for c in &self.chains {
-            c.drop_dominated(&bound, decisions, &mut gone);
+        if self.chains.is_empty() {
+            return;
         }
+        // The chains' scratch space, kept per thread (a decision is made per region).
+        thread_local! {
+            static GONE: std::cell::RefCell<Vec<bool>> = const { std::cell::RefCell::new(Vec::new()) };
+        }
+        GONE.with(|g| {
+            let mut gone = g.borrow_mut();
+            for c in &self.chains {
+                c.drop_dominated(&bound, decisions, &mut gone);
+            }
+        });
     }
 
     /// The key of `decisions` for sharing tapes: the decisions of the registers a

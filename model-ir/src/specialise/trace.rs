@@ -5,7 +5,6 @@
 //! hashing, locks or shared caches. Boxes of one batch whose decisions agree share one
 //! tape.
 
-use super::one_pass::rebuild;
 use super::rules::{Fold, KEEP};
 use crate::tape::Tape;
 use arith_core::lanes::{F64x8, LANES};
@@ -123,9 +122,7 @@ impl Tape {
         if let Some((_, _, t)) = trace.built.iter().find(|(i, j, _)| &keys[*i..*j] == key) {
             return t.clone();
         }
-        let t = rebuild(ins, Some(&spec.sign_only), Fold::Sign, &trace.decisions);
-        let kept = t.len() < ins.len() || spec.r_functions && t.len() <= ins.len() + spec.subtracts;
-        let t = kept.then(|| Tape::specialised(t, spec.affine_bounds()));
+        let t = spec.sign_tape(ins, &trace.decisions);
         let i = trace.keys.len();
         trace.keys.extend_from_slice(&trace.key);
         trace.built.push((i, trace.keys.len(), t.clone()));

@@ -74,6 +74,16 @@ pub const SLAB_RUN: usize = 8;
 /// The most slabs an image tile's depth is cut into.
 pub const MAX_SLABS: usize = 512;
 
+/// The depth at which slab `k` of `n` equal slabs of `[s0, s1]` starts (`k = n`: `s1`),
+/// the ends exact.
+fn slab_edge((s0, s1): (f64, f64), n: u32, k: u32) -> f64 {
+    match k {
+        0 => s0,
+        k if k == n => s1,
+        k => s0 + (s1 - s0) * k as f64 / n as f64,
+    }
+}
+
 /// A tile `[i0, i1) x [j0, j1)` of pixels.
 pub type Rect = (u32, u32, u32, u32);
 
@@ -331,11 +341,7 @@ impl<A: Arithmetic, S: Shape> Search<'_, A, S> {
         let mut bx = std::mem::take(&mut self.runs[depth]);
         bx.clear();
         let q = self.rect;
-        let edge = |k: u32| match k {
-            0 => s0,
-            k if k == n => s1,
-            k => s0 + (s1 - s0) * k as f64 / n as f64,
-        };
+        let edge = |k: u32| slab_edge((s0, s1), n, k);
         let (a0, b0, a1, b1) = q;
         let dirs = self.culler.bundle_dirs(a0, b0, a1, b1);
         let origins = self.culler.bundle_origins(a0, b0, a1, b1);
@@ -382,11 +388,7 @@ impl<A: Arithmetic, S: Shape> Search<'_, A, S> {
     fn visit(&mut self, level: usize, subs: &[Rect], (sa, sb): (f64, f64), n: u32, shape: &S) {
         let mut bx = std::mem::take(&mut self.levels[level]);
         bx.clear();
-        let edge = |k: u32| match k {
-            0 => sa,
-            k if k == n => sb,
-            k => sa + (sb - sa) * k as f64 / n as f64,
-        };
+        let edge = |k: u32| slab_edge((sa, sb), n, k);
         for &q in subs {
             if !self.any_open(q) {
                 continue;
