@@ -36,7 +36,12 @@ pub struct Options {
     pub millis: u64,
     /// Rounds; the median is reported.
     pub rounds: usize,
+    /// The arithmetics measured, among [`ARITHS`].
+    pub ariths: Vec<String>,
 }
+
+/// The arithmetics measured, in the order the JSON lists them.
+pub const ARITHS: [&str; 6] = ["point", "ia", "revaa", "raa", "hull", "gradient"];
 
 impl Options {
     /// The bear and the colonnade from `models_dir`, batches of 64 and 512 lanes.
@@ -49,6 +54,7 @@ impl Options {
             batches: vec![64, 512],
             millis: 100,
             rounds: 3,
+            ariths: ARITHS.map(String::from).to_vec(),
         }
     }
 }
@@ -218,6 +224,12 @@ pub fn run(o: &Options) -> Result<String, String> {
             "--batches: {b} is not a positive multiple of {LANES}"
         ));
     }
+    if let Some(a) = o.ariths.iter().find(|a| !ARITHS.contains(&a.as_str())) {
+        return Err(format!(
+            "--arith: '{a}' is not one of {}",
+            ARITHS.join(", ")
+        ));
+    }
     let mut tapes = Vec::new();
     for (name, path) in &o.models {
         let text = std::fs::read_to_string(path)
@@ -229,7 +241,11 @@ pub fn run(o: &Options) -> Result<String, String> {
     let mut all: Vec<Case> = Vec::new();
     for (m, t) in tapes.iter().enumerate() {
         for &lanes in &o.batches {
-            all.extend(cases(t, m, lanes));
+            all.extend(
+                cases(t, m, lanes)
+                    .into_iter()
+                    .filter(|c| o.ariths.iter().any(|a| a == c.arith)),
+            );
         }
     }
     let budget = Duration::from_millis(o.millis);
@@ -287,7 +303,7 @@ fn json(o: &Options, tapes: &[Tape], all: &mut [Case]) -> String {
                 s.push_str(", ");
             }
             let _ = write!(s, "{{\"lanes\": {lanes}");
-            for arith in ["point", "ia", "revaa", "raa", "hull", "gradient"] {
+            for arith in ARITHS {
                 let mut entries = Vec::new();
                 for c in all.iter_mut() {
                     if c.model == m && c.lanes == lanes && c.arith == arith {

@@ -170,6 +170,10 @@ enum Cmd {
         /// Interleaved rounds; the median is reported.
         #[arg(long, default_value_t = 3)]
         rounds: usize,
+        /// Comma-separated arithmetics to measure (point, ia, revaa, raa, hull,
+        /// gradient); all by default.
+        #[arg(long)]
+        arith: Option<String>,
     },
     /// Our Mitchell counts against the progressive-refinement paper's Table 1, one
     /// set-up factor (bound, precision, camera) changed at a time.
@@ -496,6 +500,7 @@ fn run(cli: Cli) -> Result<(), String> {
             batches,
             millis,
             rounds,
+            arith,
         } => {
             let dir = models.unwrap_or_else(kernel::default_models_dir);
             let mut o = kernel::Options::new(&dir);
@@ -509,6 +514,9 @@ fn run(cli: Cli) -> Result<(), String> {
                 .collect::<Result<_, _>>()?;
             o.millis = millis;
             o.rounds = rounds;
+            if let Some(a) = arith {
+                o.ariths = a.split(',').map(|a| a.trim().to_string()).collect();
+            }
             let json = kernel::run(&o)?;
             tracer_kit::out!("{json}");
             Ok(())

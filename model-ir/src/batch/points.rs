@@ -63,6 +63,26 @@ fn domain<I: Isa>(s: I, op: Op, x: I::V) -> I::M {
     }
 }
 
+/// Stores a block of lane function results `r` of `x` into `o`, the lanes outside the
+/// function's proven domain redone through the scalar operation of `i`.
+#[inline(always)]
+fn put<I: Isa>(s: I, i: &Instr, o: &mut F64x8, x: &F64x8, r: I::V) {
+    *o = s.store(r);
+    let inside = s.bits(domain(s, i.op, s.load(x)));
+    if inside != u8::MAX {
+        redo(i, inside, x, o);
+    }
+}
+
+/// The lane function `$f` of the instruction at `$at` over every block (a macro, so
+/// that the function inlines into the path's code).
+macro_rules! elementary {
+    ($s:ident, $at:ident, $f:path) => {{
+        let i = $at.i;
+        $at.each::<1>(|[o], [[x], _, _]| put($s, i, o, x, $f($s, $s.load(x))))
+    }};
+}
+
 impl PartOps for Points {
     const PARTS: usize = 1;
 
@@ -123,20 +143,10 @@ impl PartOps for Points {
                     *o = s.store(s.select(m, s.load(t), s.load(f)));
                 })
             }
-            Op::Exp | Op::Ln | Op::Sin | Op::Cos => at.each::<1>(|[o], [[x], _, _]| {
-                let v = s.load(x);
-                let r = match i.op {
-                    Op::Exp => exp(s, v),
-                    Op::Ln => ln(s, v),
-                    Op::Sin => sin(s, v),
-                    _ => cos(s, v),
-                };
-                *o = s.store(r);
-                let inside = s.bits(domain(s, i.op, v));
-                if inside != u8::MAX {
-                    redo(i, inside, x, o);
-                }
-            }),
+            Op::Exp => elementary!(s, at, exp),
+            Op::Ln => elementary!(s, at, ln),
+            Op::Sin => elementary!(s, at, sin),
+            Op::Cos => elementary!(s, at, cos),
             // Lane by lane through the scalar operation.
             _ => at.each::<1>(|[o], [[x], [y], [z]]| {
                 *o = F64x8(core::array::from_fn(|l| apply(i, x.0[l], y.0[l], z.0[l])));
