@@ -121,11 +121,23 @@ fn mul_nonneg(x: (f64, f64), y: (f64, f64)) -> (f64, f64) {
 }
 
 /// Enclosure of `g(x) = f(x) - alpha*x` at a float `x`, given `f(x) ∈ fx`.
+#[inline]
 pub(super) fn g_enc(fx: (f64, f64), alpha: f64, x: f64) -> (f64, f64) {
-    (
-        sub_lo(fx.0, mul_hi(alpha, x)),
-        sub_hi(fx.1, mul_lo(alpha, x)),
-    )
+    (g_lo(fx.0, alpha, x), g_hi(fx.1, alpha, x))
+}
+
+/// A lower bound of `g(x) = f(x) - alpha*x` at a float `x`, given `f(x) >= f_lo`
+/// ([`g_enc`]'s lower end, where only it is needed).
+#[inline]
+pub(super) fn g_lo(f_lo: f64, alpha: f64, x: f64) -> f64 {
+    sub_lo(f_lo, mul_hi(alpha, x))
+}
+
+/// An upper bound of `g(x) = f(x) - alpha*x` at a float `x`, given `f(x) <= f_hi`
+/// ([`g_enc`]'s upper end).
+#[inline]
+pub(super) fn g_hi(f_hi: f64, alpha: f64, x: f64) -> f64 {
+    sub_hi(f_hi, mul_lo(alpha, x))
 }
 
 /// `p` moved into `[a, b]` (the midpoint when `p` is NaN).
@@ -174,17 +186,19 @@ where
     F: Fn(f64) -> (f64, f64),
     D: Fn(f64) -> (f64, f64),
 {
-    let ga = g_enc(f(a), alpha, a);
-    let gb = g_enc(f(b), alpha, b);
+    // Only the sides each shape needs: the ends' far side, the tangent point's near one.
+    let (fa, fb) = (f(a), f(b));
     let p = clamp_in(p, a, b);
-    let gp = g_enc(f(p), alpha, p);
+    let fp = f(p);
     let d = df(p);
     let dg = (sub_lo(d.0, alpha), sub_hi(d.1, alpha));
     let (tlo, thi) = slope_times_offset(dg, (sub_lo(a, p), sub_hi(b, p)));
     if convex {
-        (add_lo(gp.0, tlo), ga.1.max(gb.1))
+        let far = g_hi(fa.1, alpha, a).max(g_hi(fb.1, alpha, b));
+        (add_lo(g_lo(fp.0, alpha, p), tlo), far)
     } else {
-        (ga.0.min(gb.0), add_hi(gp.1, thi))
+        let far = g_lo(fa.0, alpha, a).min(g_lo(fb.0, alpha, b));
+        (far, add_hi(g_hi(fp.1, alpha, p), thi))
     }
 }
 

@@ -7,7 +7,7 @@
 //! ranges, the hot cases of the R-functions and of division, have closed-form fast paths
 //! giving the same kind of bound with fewer roundings.
 
-use super::bounds::{bound_piece, g_enc, pow_enc, recip_enc, sqrt_enc};
+use super::bounds::{bound_piece, g_enc, g_hi, pow_enc, recip_enc, sqrt_enc};
 use super::interval::{range_exp, range_ln, range_powi, range_sqrt};
 use super::{approx_min, bad, finish, flush, mirror, or_range, Approx};
 use crate::round::{self, down, libm_enclose, mul_hi, mul_lo, mul_lo_hi, sub_lo, up};
@@ -330,7 +330,7 @@ pub fn exp(a: f64, b: f64) -> Approx {
     // real x, g(x) >= alpha - alpha*ln(alpha) (its minimum, at x = ln(alpha)), whatever
     // float alpha came out: one libm `ln` instead of a tangent's `exp` twice.
     let bound = |alpha: f64| {
-        let hi = g_enc(fa, alpha, a).1.max(g_enc(fb, alpha, b).1);
+        let hi = g_hi(fa.1, alpha, a).max(g_hi(fb.1, alpha, b));
         let lo = if alpha > 0.0 {
             mul_lo(alpha, sub_lo(1.0, libm_enclose(alpha.ln()).1))
         } else {
@@ -402,9 +402,7 @@ pub fn abs(a: f64, b: f64) -> Approx {
     // |alpha| <= 1 in floating point too (|fl(a+b)| <= fl(b-a)), so g = |x| - alpha*x
     // >= 0, with its maximum at an end.
     let alpha = flush(((a + b) / (b - a)).clamp(-1.0, 1.0));
-    let ga = g_enc((-a, -a), alpha, a);
-    let gb = g_enc((b, b), alpha, b);
-    finish(alpha, 0.0, ga.1.max(gb.1))
+    finish(alpha, 0.0, g_hi(-a, alpha, a).max(g_hi(b, alpha, b)))
 }
 
 /// Secant slope of `x^n` on `[a, b]`: `sum_{k<n} a^k b^(n-1-k)` (no cancellation).
