@@ -389,8 +389,10 @@ fn ln_in<O: Ops>(s: O, x: O::V) -> O::V {
 
 /// A lower and an upper bound of an exact value within [`ELEMENTARY_REL`] of `v`
 /// (relative to the exact value): `v` widened by `|v| LIBM_REL + ETA`, rounded outward.
+/// [`exp_enclosure`] is `widen(exp(x))`; a caller that needs the value as well takes
+/// both apart.
 #[inline(always)]
-fn widen<I: Isa>(s: I, v: I::V) -> (I::V, I::V) {
+pub fn widen<I: Isa>(s: I, v: I::V) -> (I::V, I::V) {
     let m = Isa::fma(
         s,
         Isa::abs(s, v),

@@ -24,7 +24,7 @@
 
 use super::revaa::{bounds, finite, neg, select, up_abs, Form, F};
 use arith_core::affine_round::{k_lin, slack};
-use arith_core::lanes::Isa;
+use arith_core::lanes::{exp as exp_lanes, ln_enclosure, widen, Isa, EXP_MAX_ARG};
 use arith_core::round::{ETA, U};
 
 /// An affine approximation `alpha*x + zeta ± delta` per lane.
@@ -219,6 +219,76 @@ pub(super) fn sqrt<I: Isa, const N: usize>(s: I, x: Form<I, N>) -> (Form<I, N>, 
     (r, s.not(s.and(ok, s.or(flat, good))))
 }
 
+/// `1/(k + 1)!` for `k = 12` down to `0`: `(e^w - 1) / w = sum_k w^k / (k + 1)!`.
+const EXPM1_COEFFS: [f64; 13] = [
+    1.0 / 6_227_020_800.0,
+    1.0 / 479_001_600.0,
+    1.0 / 39_916_800.0,
+    1.0 / 3_628_800.0,
+    1.0 / 362_880.0,
+    1.0 / 40_320.0,
+    1.0 / 5040.0,
+    1.0 / 720.0,
+    1.0 / 120.0,
+    1.0 / 24.0,
+    1.0 / 6.0,
+    0.5,
+    1.0,
+];
+
+/// The Chebyshev branch of `approx::exp` on `[a, b]`: the secant slope `alpha`, `g =
+/// e^x - alpha*x` (convex) at most its larger end and at least `alpha - alpha ln alpha`
+/// (its minimum over the reals), with the lanes' proven `exp` and `ln` enclosures in
+/// place of libm's. The lanes where it applies: `-700 <= a < b <= 700` (the lanes'
+/// `exp` domain), a normal positive slope, a bounded approximation whose affine range
+/// stays above 0 at both ends (where the scalar takes its min-range branch instead).
+///
+/// The slope is `e^a (e^w - 1) / w` (`w = b - a`) with `(e^w - 1) / w` from its Taylor
+/// polynomial where `w < 1/2` (to `w^12`, within `1.5e-15`), else `(e^b - e^a) / w` from
+/// the lanes' values, not from libm's `exp` and `expm1`: any float slope gives sound
+/// bounds (they are computed for the slope taken), but the lower bound holds only
+/// near the slope's own minimum point `ln alpha`, which a slope from a cancelling
+/// difference of a narrow range would move out of `[a, b]`. So these lanes are sound
+/// but not the scalar form's bits (as the interval kernel's `exp` is not).
+#[inline(always)]
+fn exp_cheb<I: Isa>(s: I, a: I::V, b: I::V) -> (Approx<I::V>, I::M) {
+    let zero = s.splat(0.0);
+    let (ea, eb) = (exp_lanes(s, a), exp_lanes(s, b));
+    let (fa, fb) = (widen(s, ea).1, widen(s, eb).1);
+    let w = s.sub(b, a);
+    let mut q = s.splat(EXPM1_COEFFS[0]);
+    for &c in &EXPM1_COEFFS[1..] {
+        q = s.fma(w, q, s.splat(c));
+    }
+    let alpha = s.select(s.lt(w, s.splat(0.5)), s.mul(ea, q), s.div(s.sub(eb, ea), w));
+    let hi = s.max(
+        s.sub_up_raw(fa, s.mul_down_raw(alpha, a)),
+        s.sub_up_raw(fb, s.mul_down_raw(alpha, b)),
+    );
+    let normal = s.and(
+        s.le(s.splat(f64::MIN_POSITIVE), alpha),
+        s.lt(alpha, s.splat(f64::INFINITY)),
+    );
+    // `ln` of a slope outside its domain gives some value; those lanes are dropped.
+    let ln_hi = ln_enclosure(s, s.select(normal, alpha, s.splat(1.0))).1;
+    let lo = s.mul_down_raw(alpha, s.sub_down_raw(s.splat(1.0), ln_hi));
+    let (ap, ok) = finish(s, alpha, lo, hi);
+    let low = s.sub(s.add(s.mul(alpha, a), ap.zeta), ap.delta);
+    let max_arg = s.splat(EXP_MAX_ARG);
+    let inside = s.and(s.and(s.le(s.neg(max_arg), a), s.le(b, max_arg)), s.lt(a, b));
+    let taken = s.and(s.and(ok, normal), s.and(inside, s.lt(zero, low)));
+    (ap, taken)
+}
+
+/// RevAA's `exp x` (`Reduced::exp`) where [`exp_cheb`] applies on the fast bounds.
+/// Returns the forms and the lanes left to the scalar operation.
+#[inline(always)]
+pub(super) fn exp<I: Isa, const N: usize>(s: I, x: Form<I, N>) -> (Form<I, N>, I::M) {
+    let (a, b) = bounds_fast(s, x);
+    let (ap, good) = exp_cheb(s, a, b);
+    (apply(s, x, ap), s.not(s.and(finite(s, (a, b)), good)))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -226,11 +296,36 @@ mod tests {
     use arith_core::{Range, Real};
     use arith_revaa::RevAa;
 
-    /// `|x|` (or `sqrt x`) of eight forms on one path: the forms and the lanes left to
-    /// the scalar operation.
+    /// Which function [`Unary`] takes.
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    enum Fun {
+        Abs,
+        Sqrt,
+        Exp,
+    }
+
+    impl Fun {
+        fn form(self, f: &RevAa<1>) -> RevAa<1> {
+            match self {
+                Fun::Abs => f.abs(),
+                Fun::Sqrt => f.sqrt(),
+                Fun::Exp => f.exp(),
+            }
+        }
+        fn point(self, v: f64) -> f64 {
+            match self {
+                Fun::Abs => v.abs(),
+                Fun::Sqrt => v.max(0.0).sqrt(),
+                Fun::Exp => v.exp(),
+            }
+        }
+    }
+
+    /// `|x|`, `sqrt x` or `exp x` of eight forms on one path: the forms and the lanes
+    /// left to the scalar operation.
     struct Unary<'a> {
         x: &'a [RevAa<1>],
-        sqrt: bool,
+        f: Fun,
     }
 
     impl Kernel for Unary<'_> {
@@ -245,7 +340,11 @@ mod tests {
                 xs: [part(&|f| f.xs[0])],
                 e: part(&|f| f.e),
             };
-            let (r, redo) = if self.sqrt { sqrt(s, x) } else { abs(s, x) };
+            let (r, redo) = match self.f {
+                Fun::Abs => abs(s, x),
+                Fun::Sqrt => sqrt(s, x),
+                Fun::Exp => exp(s, x),
+            };
             let (x0, c, e) = (s.store(r.x0), s.store(r.xs[0]), s.store(r.e));
             let forms = (0..LANES)
                 .map(|l| RevAa::<1>::from_parts(x0.0[l], [c.0[l]], e.0[l]))
@@ -279,16 +378,16 @@ mod tests {
         };
         let xs = forms();
         for path in Path::available_paths() {
-            for sqrt in [false, true] {
+            for fun in [Fun::Abs, Fun::Sqrt] {
                 let (mut across, mut redone) = (0, 0);
                 for x in xs.chunks_exact(LANES) {
-                    let (out, redo) = dispatch(path, Unary { x, sqrt });
+                    let (out, redo) = dispatch(path, Unary { x, f: fun });
                     redone += redo.count_ones();
                     for (l, (o, f)) in out.iter().zip(x).enumerate() {
                         if redo & (1 << l) != 0 {
                             continue;
                         }
-                        let want = if sqrt { f.sqrt() } else { f.abs() };
+                        let want = fun.form(f);
                         let (lo, hi) = f.bounds();
                         across += usize::from(lo < 0.0 && hi > 0.0);
                         if path != Path::Avx2 {
@@ -298,7 +397,7 @@ mod tests {
                         for eps in [-1.0, -0.5, 0.0, 0.25, 1.0] {
                             for d in [-f.e, 0.0, f.e] {
                                 let v = f.x0 + f.xs[0] * eps + d;
-                                let y = if sqrt { v.max(0.0).sqrt() } else { v.abs() };
+                                let y = fun.point(v);
                                 assert!(rl <= y && y <= rh, "{path}: {y} not in [{rl}, {rh}]");
                             }
                         }
@@ -309,6 +408,60 @@ mod tests {
                 }
                 assert!(across > 100, "{path}: {across} ranges across 0");
             }
+        }
+    }
+
+    /// Two enclosures of one range overlap, and the batched one is at most twice as wide
+    /// as the scalar one, plus `2^-30` of its magnitude.
+    fn close(batched: (f64, f64), scalar: (f64, f64)) -> bool {
+        let width = |(lo, hi): (f64, f64)| hi - lo;
+        let size = scalar.0.abs().max(scalar.1.abs());
+        batched.0 <= scalar.1
+            && scalar.0 <= batched.1
+            && width(batched) <= 2.0 * width(scalar) + 2f64.powi(-30) * size
+    }
+
+    /// `exp`'s lanes hold `e^x` at points of the form (libm's value within its ulp), are
+    /// close to the scalar form's range, and take most forms whose range is at most a
+    /// few units wide (the rest, where the Chebyshev range would dip to 0, are left to
+    /// the scalar operation, as the scalar takes its min-range branch there).
+    #[test]
+    fn exp_lanes_enclose_and_stay_close() {
+        let mut xs = forms();
+        // Narrow ranges, where the slope's difference would cancel.
+        for k in 0..64 {
+            let c = [1e-12, 1e-6, 0.01, 0.3][k % 4];
+            xs.push(RevAa::<1>::from_parts(k as f64 / 4.0 - 8.0, [c], 0.0));
+        }
+        let slack = 1.0 + 2f64.powi(-50);
+        for path in Path::available_paths() {
+            let (mut taken, mut all) = (0, 0);
+            for x in xs.chunks_exact(LANES) {
+                let (out, redo) = dispatch(path, Unary { x, f: Fun::Exp });
+                for (l, (o, f)) in out.iter().zip(x).enumerate() {
+                    all += 1;
+                    if redo & (1 << l) != 0 {
+                        continue;
+                    }
+                    taken += 1;
+                    let (rl, rh) = o.bounds();
+                    assert!(
+                        close(o.bounds(), f.exp().bounds()),
+                        "{path}: [{rl}, {rh}] vs {:?} of {f:?}",
+                        f.exp().bounds()
+                    );
+                    for eps in [-1.0, -0.5, 0.0, 0.25, 1.0] {
+                        for d in [-f.e, 0.0, f.e] {
+                            let y = (f.x0 + f.xs[0] * eps + d).exp();
+                            assert!(
+                                rl <= y * slack && y <= rh * slack,
+                                "{path}: {y} not in [{rl}, {rh}] of {f:?}"
+                            );
+                        }
+                    }
+                }
+            }
+            assert!(2 * taken > all, "{path}: {taken} of {all} lanes taken");
         }
     }
 
@@ -326,9 +479,9 @@ mod tests {
             RevAa::<1>::from_parts(0.0, [1.0], f64::INFINITY),
         ];
         for path in Path::available_paths() {
-            for sqrt in [false, true] {
-                let (_, redo) = dispatch(path, Unary { x: &x, sqrt });
-                assert_eq!(redo, 0xff, "{path}, sqrt {sqrt}");
+            for f in [Fun::Abs, Fun::Sqrt, Fun::Exp] {
+                let (_, redo) = dispatch(path, Unary { x: &x, f });
+                assert_eq!(redo, 0xff, "{path}, {f:?}");
             }
         }
     }
