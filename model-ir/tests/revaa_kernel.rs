@@ -5,8 +5,9 @@
 //! scalar `RevAa<N>` evaluation's, bit for bit, for one and three symbols and for
 //! four-form packs, on recorded expressions and on random tapes of every instruction
 //! over random forms (zeros of both signs, huge, tiny, infinite and NaN parts), but
-//! where a tape takes `exp` (the lanes' Chebyshev `exp` uses the lanes' proven `exp`
-//! and `ln` instead of libm's: the ranges are then close to the scalar ones); on
+//! where a tape takes `exp` or `ln` (their lanes' Chebyshev approximations use the
+//! lanes' proven `exp` and `ln` instead of libm's: the ranges are then close to the
+//! scalar ones); on
 //! every path, the AVX2 one included (whose square, `abs`, `sqrt`, `min` and `max` may
 //! take directed bounds an ulp further out), each batched range holds the exact value
 //! of the function at random points of the inputs' boxes.
@@ -59,13 +60,16 @@ fn form<const N: usize>() -> impl Strategy<Value = RevAa<N>> {
     })
 }
 
-/// Whether a tape takes `exp`, whose lanes are close to the scalar forms, not the same.
+/// Whether a tape takes `exp` or `ln`, whose lanes are close to the scalar forms, not
+/// the same.
 fn takes_exp(t: &Tape) -> bool {
-    t.instructions().iter().any(|i| i.op == Op::Exp)
+    t.instructions()
+        .iter()
+        .any(|i| matches!(i.op, Op::Exp | Op::Ln))
 }
 
 /// The batched forms against the scalar ones on the paths that give the same bits
-/// (close ranges where the tape takes `exp`).
+/// (close ranges where the tape takes `exp` or `ln`).
 fn check_forms<const N: usize>(
     t: &Tape,
     ins: &[[RevAa<N>; 3]],

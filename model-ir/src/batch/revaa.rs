@@ -370,6 +370,7 @@ impl<const N: usize> PartOps for Forms<N> {
             Op::Abs => op!(|x, y| revaa_approx::abs(s, x)),
             Op::Sqrt => op!(|x, y| revaa_approx::sqrt(s, x)),
             Op::Exp => op!(|x, y| revaa_approx::exp(s, x)),
+            Op::Ln => op!(|x, y| revaa_approx::ln(s, x)),
             // Lane by lane through the scalar operation.
             _ => op!(|x, y| (x, all)),
         }

@@ -24,7 +24,7 @@
 
 use super::revaa::{bounds, finite, neg, select, up_abs, Form, F};
 use arith_core::affine_round::{k_lin, slack};
-use arith_core::lanes::{exp as exp_lanes, ln_enclosure, widen, Isa, EXP_MAX_ARG};
+use arith_core::lanes::{exp as exp_lanes, ln as ln_lanes, ln_enclosure, widen, Isa, EXP_MAX_ARG};
 use arith_core::round::{ETA, U};
 
 /// An affine approximation `alpha*x + zeta ± delta` per lane.
@@ -289,6 +289,64 @@ pub(super) fn exp<I: Isa, const N: usize>(s: I, x: Form<I, N>) -> (Form<I, N>, I
     (apply(s, x, ap), s.not(s.and(finite(s, (a, b)), good)))
 }
 
+/// `approx::ln` on `[a, b]` (`ln` is concave): the secant slope `alpha`, `g = ln x -
+/// alpha*x` at least its smaller end and at most the tangent at `p = 1/alpha` (its
+/// maximum point, clamped into `[a, b]`) over `[a, b]`, `bounds::bound_piece`'s steps
+/// with the lanes' proven `ln` enclosures in place of libm's. The lanes where it
+/// applies: `0 < a < b`, `a` normal, `b` finite, a normal slope and a bounded result.
+///
+/// The slope is `(ln b - ln a) / (b - a)` from the lanes' values where `(b - a) / a >=
+/// 1/16`, else `2 / (a + b)` (the slope at the midpoint, within `r^2 / 12` relative of
+/// the secant's for `r = (b - a) / a`), not libm's `ln_1p`: any slope gives sound
+/// bounds, and this one keeps the tangent point inside `[a, b]` where the difference
+/// would cancel. Sound, not the scalar form's bits.
+#[inline(always)]
+fn ln_cheb<I: Isa>(s: I, a: I::V, b: I::V) -> (Approx<I::V>, I::M) {
+    let one = s.splat(1.0);
+    let (la, lb) = (ln_lanes(s, a), ln_lanes(s, b));
+    let (fa, fb) = (widen(s, la).0, widen(s, lb).0);
+    let w = s.sub(b, a);
+    let alpha = s.select(
+        s.lt(w, s.mul(a, s.splat(0.0625))),
+        s.div(s.splat(2.0), s.add(a, b)),
+        s.div(s.sub(lb, la), w),
+    );
+    let lo = s.min(
+        s.sub_down_raw(fa, s.mul_up_raw(alpha, a)),
+        s.sub_down_raw(fb, s.mul_up_raw(alpha, b)),
+    );
+    // The tangent at `p`: `g(x) <= g(p) + g'(p)(x - p)`, `g'(p) = 1/p - alpha`.
+    let p = s.max(s.min(s.div(one, alpha), b), a);
+    let fp = ln_enclosure(s, p).1;
+    let gp = s.sub_up_raw(fp, s.mul_down_raw(alpha, p));
+    let dg = (
+        s.sub_down_raw(s.div_down_raw(one, p), alpha),
+        s.sub_up_raw(s.div_up_raw(one, p), alpha),
+    );
+    let (ta, tb) = (s.sub_down_raw(a, p), s.sub_up_raw(b, p));
+    let thi = s.max(s.mul_up_raw(dg.0, ta), s.mul_up_raw(dg.1, tb));
+    let hi = s.add_up_raw(gp, thi);
+    let (ap, ok) = finish(s, alpha, lo, hi);
+    let normal = s.and(
+        s.le(s.splat(f64::MIN_POSITIVE), alpha),
+        s.lt(alpha, s.splat(f64::INFINITY)),
+    );
+    let inside = s.and(
+        s.and(s.le(s.splat(f64::MIN_POSITIVE), a), s.lt(a, b)),
+        s.lt(b, s.splat(f64::INFINITY)),
+    );
+    (ap, s.and(ok, s.and(normal, inside)))
+}
+
+/// RevAA's `ln x` (`Reduced::ln`) where [`ln_cheb`] applies on the fast bounds.
+/// Returns the forms and the lanes left to the scalar operation.
+#[inline(always)]
+pub(super) fn ln<I: Isa, const N: usize>(s: I, x: Form<I, N>) -> (Form<I, N>, I::M) {
+    let (a, b) = bounds_fast(s, x);
+    let (ap, good) = ln_cheb(s, a, b);
+    (apply(s, x, ap), s.not(s.and(finite(s, (a, b)), good)))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -302,6 +360,7 @@ mod tests {
         Abs,
         Sqrt,
         Exp,
+        Ln,
     }
 
     impl Fun {
@@ -310,6 +369,7 @@ mod tests {
                 Fun::Abs => f.abs(),
                 Fun::Sqrt => f.sqrt(),
                 Fun::Exp => f.exp(),
+                Fun::Ln => f.ln(),
             }
         }
         fn point(self, v: f64) -> f64 {
@@ -317,6 +377,7 @@ mod tests {
                 Fun::Abs => v.abs(),
                 Fun::Sqrt => v.max(0.0).sqrt(),
                 Fun::Exp => v.exp(),
+                Fun::Ln => v.ln(),
             }
         }
     }
@@ -344,6 +405,7 @@ mod tests {
                 Fun::Abs => abs(s, x),
                 Fun::Sqrt => sqrt(s, x),
                 Fun::Exp => exp(s, x),
+                Fun::Ln => ln(s, x),
             };
             let (x0, c, e) = (s.store(r.x0), s.store(r.xs[0]), s.store(r.e));
             let forms = (0..LANES)
@@ -421,23 +483,14 @@ mod tests {
             && width(batched) <= 2.0 * width(scalar) + 2f64.powi(-30) * size
     }
 
-    /// `exp`'s lanes hold `e^x` at points of the form (libm's value within its ulp), are
-    /// close to the scalar form's range, and take most forms whose range is at most a
-    /// few units wide (the rest, where the Chebyshev range would dip to 0, are left to
-    /// the scalar operation, as the scalar takes its min-range branch there).
-    #[test]
-    fn exp_lanes_enclose_and_stay_close() {
-        let mut xs = forms();
-        // Narrow ranges, where the slope's difference would cancel.
-        for k in 0..64 {
-            let c = [1e-12, 1e-6, 0.01, 0.3][k % 4];
-            xs.push(RevAa::<1>::from_parts(k as f64 / 4.0 - 8.0, [c], 0.0));
-        }
-        let slack = 1.0 + 2f64.powi(-50);
+    /// The lanes of `fun` hold its values at points of the forms `xs` (libm's value
+    /// within its ulp), are close to the scalar form's range, and take most forms (the
+    /// rest are left to the scalar operation).
+    fn lanes_enclose_and_stay_close(fun: Fun, xs: &[RevAa<1>]) {
         for path in Path::available_paths() {
             let (mut taken, mut all) = (0, 0);
             for x in xs.chunks_exact(LANES) {
-                let (out, redo) = dispatch(path, Unary { x, f: Fun::Exp });
+                let (out, redo) = dispatch(path, Unary { x, f: fun });
                 for (l, (o, f)) in out.iter().zip(x).enumerate() {
                     all += 1;
                     if redo & (1 << l) != 0 {
@@ -445,24 +498,52 @@ mod tests {
                     }
                     taken += 1;
                     let (rl, rh) = o.bounds();
+                    let want = fun.form(f).bounds();
                     assert!(
-                        close(o.bounds(), f.exp().bounds()),
-                        "{path}: [{rl}, {rh}] vs {:?} of {f:?}",
-                        f.exp().bounds()
+                        close((rl, rh), want),
+                        "{path}, {fun:?}: [{rl}, {rh}] vs {want:?} of {f:?}"
                     );
                     for eps in [-1.0, -0.5, 0.0, 0.25, 1.0] {
                         for d in [-f.e, 0.0, f.e] {
-                            let y = (f.x0 + f.xs[0] * eps + d).exp();
+                            let y = fun.point(f.x0 + f.xs[0] * eps + d);
+                            let m = y.abs() * 2f64.powi(-50);
                             assert!(
-                                rl <= y * slack && y <= rh * slack,
-                                "{path}: {y} not in [{rl}, {rh}] of {f:?}"
+                                rl <= y + m && y - m <= rh,
+                                "{path}, {fun:?}: {y} not in [{rl}, {rh}] of {f:?}"
                             );
                         }
                     }
                 }
             }
-            assert!(2 * taken > all, "{path}: {taken} of {all} lanes taken");
+            assert!(
+                2 * taken > all,
+                "{path}, {fun:?}: {taken} of {all} lanes taken"
+            );
         }
+    }
+
+    /// Forms of [`forms`] moved by `shift`, and narrow ones (where a slope from a
+    /// difference of the ends would cancel) with centres from `lowest` on.
+    fn shifted_and_narrow(shift: f64, lowest: f64) -> Vec<RevAa<1>> {
+        let mut xs: Vec<RevAa<1>> = forms()
+            .iter()
+            .map(|f| RevAa::<1>::from_parts(f.x0 + shift, f.xs, f.e))
+            .collect();
+        for k in 0..64 {
+            let c = [1e-12, 1e-6, 0.01, 0.3][k % 4];
+            xs.push(RevAa::<1>::from_parts(lowest + k as f64 / 4.0, [c], 0.0));
+        }
+        xs
+    }
+
+    #[test]
+    fn exp_lanes_enclose_and_stay_close() {
+        lanes_enclose_and_stay_close(Fun::Exp, &shifted_and_narrow(0.0, -8.0));
+    }
+
+    #[test]
+    fn ln_lanes_enclose_and_stay_close() {
+        lanes_enclose_and_stay_close(Fun::Ln, &shifted_and_narrow(6.0, 0.5));
     }
 
     /// Unbounded, NaN and degenerate ranges are left to the scalar operation.
@@ -479,7 +560,7 @@ mod tests {
             RevAa::<1>::from_parts(0.0, [1.0], f64::INFINITY),
         ];
         for path in Path::available_paths() {
-            for f in [Fun::Abs, Fun::Sqrt, Fun::Exp] {
+            for f in [Fun::Abs, Fun::Sqrt, Fun::Exp, Fun::Ln] {
                 let (_, redo) = dispatch(path, Unary { x: &x, f });
                 assert_eq!(redo, 0xff, "{path}, {f:?}");
             }
