@@ -371,6 +371,15 @@ impl<const N: usize> PartOps for Forms<N> {
             Op::Sqrt => op!(|x, y| revaa_approx::sqrt(s, x)),
             Op::Exp => op!(|x, y| revaa_approx::exp(s, x)),
             Op::Ln => op!(|x, y| revaa_approx::ln(s, x)),
+            Op::Recip => op!(|x, y| revaa_approx::recip(s, x)),
+            Op::RDivC => op!(|x, y| {
+                let (r, redo) = revaa_approx::recip(s, x);
+                (mul_c(s, r, c, false), redo)
+            }),
+            Op::Div => op!(|x, y| {
+                let (r, redo) = revaa_approx::recip(s, y);
+                (mul(s, x, r), redo)
+            }),
             // Lane by lane through the scalar operation.
             _ => op!(|x, y| (x, all)),
         }

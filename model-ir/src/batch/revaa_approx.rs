@@ -239,9 +239,10 @@ const EXPM1_COEFFS: [f64; 13] = [
 /// The Chebyshev branch of `approx::exp` on `[a, b]`: the secant slope `alpha`, `g =
 /// e^x - alpha*x` (convex) at most its larger end and at least `alpha - alpha ln alpha`
 /// (its minimum over the reals), with the lanes' proven `exp` and `ln` enclosures in
-/// place of libm's. The lanes where it applies: `-700 <= a < b <= 700` (the lanes'
-/// `exp` domain), a normal positive slope, a bounded approximation whose affine range
-/// stays above 0 at both ends (where the scalar takes its min-range branch instead).
+/// place of libm's, while the approximation's affine range stays above 0 at both ends;
+/// else the min-range branch (the slope a lower bound of `e^a`, the same bounds). The
+/// lanes where it applies: `-700 <= a < b <= 700` (the lanes' `exp` domain), a normal
+/// positive slope and a bounded approximation.
 ///
 /// The slope is `e^a (e^w - 1) / w` (`w = b - a`) with `(e^w - 1) / w` from its Taylor
 /// polynomial where `w < 1/2` (to `w^12`, within `1.5e-15`), else `(e^b - e^a) / w` from
@@ -254,13 +255,44 @@ const EXPM1_COEFFS: [f64; 13] = [
 fn exp_cheb<I: Isa>(s: I, a: I::V, b: I::V) -> (Approx<I::V>, I::M) {
     let zero = s.splat(0.0);
     let (ea, eb) = (exp_lanes(s, a), exp_lanes(s, b));
-    let (fa, fb) = (widen(s, ea).1, widen(s, eb).1);
+    let ((fa_lo, fa), fb) = (widen(s, ea), widen(s, eb).1);
     let w = s.sub(b, a);
     let mut q = s.splat(EXPM1_COEFFS[0]);
     for &c in &EXPM1_COEFFS[1..] {
         q = s.fma(w, q, s.splat(c));
     }
-    let alpha = s.select(s.lt(w, s.splat(0.5)), s.mul(ea, q), s.div(s.sub(eb, ea), w));
+    let bound = |alpha| exp_bound(s, (a, b), (fa, fb), alpha);
+    let (cheb, cheb_ok) =
+        bound(s.select(s.lt(w, s.splat(0.5)), s.mul(ea, q), s.div(s.sub(eb, ea), w)));
+    let low = s.sub(s.add(s.mul(cheb.alpha, a), cheb.zeta), cheb.delta);
+    let keep = s.and(cheb_ok, s.lt(zero, low));
+    // Min-range (the slope a lower bound of `e^a`), where some lane needs it.
+    let (ap, ok) = if s.bits(keep) == u8::MAX {
+        (cheb, keep)
+    } else {
+        let (range, range_ok) = bound(fa_lo);
+        let ap = Approx {
+            alpha: s.select(keep, cheb.alpha, range.alpha),
+            zeta: s.select(keep, cheb.zeta, range.zeta),
+            delta: s.select(keep, cheb.delta, range.delta),
+        };
+        (ap, s.or(keep, range_ok))
+    };
+    let max_arg = s.splat(EXP_MAX_ARG);
+    let inside = s.and(s.and(s.le(s.neg(max_arg), a), s.le(b, max_arg)), s.lt(a, b));
+    (ap, s.and(inside, ok))
+}
+
+/// `g = e^x - alpha*x` over `[a, b]` for a slope `alpha`, given upper bounds `fa`,
+/// `fb` of `e^a`, `e^b`: at most its larger end, at least `alpha - alpha ln alpha`; the
+/// approximation and whether it is bounded with a normal slope.
+#[inline(always)]
+fn exp_bound<I: Isa>(
+    s: I,
+    (a, b): (I::V, I::V),
+    (fa, fb): (I::V, I::V),
+    alpha: I::V,
+) -> (Approx<I::V>, I::M) {
     let hi = s.max(
         s.sub_up_raw(fa, s.mul_down_raw(alpha, a)),
         s.sub_up_raw(fb, s.mul_down_raw(alpha, b)),
@@ -273,11 +305,7 @@ fn exp_cheb<I: Isa>(s: I, a: I::V, b: I::V) -> (Approx<I::V>, I::M) {
     let ln_hi = ln_enclosure(s, s.select(normal, alpha, s.splat(1.0))).1;
     let lo = s.mul_down_raw(alpha, s.sub_down_raw(s.splat(1.0), ln_hi));
     let (ap, ok) = finish(s, alpha, lo, hi);
-    let low = s.sub(s.add(s.mul(alpha, a), ap.zeta), ap.delta);
-    let max_arg = s.splat(EXP_MAX_ARG);
-    let inside = s.and(s.and(s.le(s.neg(max_arg), a), s.le(b, max_arg)), s.lt(a, b));
-    let taken = s.and(s.and(ok, normal), s.and(inside, s.lt(zero, low)));
-    (ap, taken)
+    (ap, s.and(ok, normal))
 }
 
 /// RevAA's `exp x` (`Reduced::exp`) where [`exp_cheb`] applies on the fast bounds.
@@ -347,6 +375,67 @@ pub(super) fn ln<I: Isa, const N: usize>(s: I, x: Form<I, N>) -> (Form<I, N>, I:
     (apply(s, x, ap), s.not(s.and(finite(s, (a, b)), good)))
 }
 
+/// `approx::recip`'s closed form (`recip_fast`) on `[a, b]` with `0 < a < b`, or on
+/// `[-b, -a]` mirrored where `a < b < 0`: with `c = -alpha > 0`, `g = 1/x + c x` at most
+/// its larger end, each term's `next_up`, and at least `2 next_down(sqrt c)`; the
+/// Chebyshev slope `c = 1/(ab)` while the approximation stays above 0 at both ends,
+/// else `1/b^2`. Returns the lanes where the scalar takes this branch and gets a
+/// bounded approximation (the same bits there on the tight paths, as for `sqrt`).
+#[inline(always)]
+fn recip_closed<I: Isa>(s: I, a: I::V, b: I::V) -> (Approx<I::V>, I::M) {
+    let (zero, one, two) = (s.splat(0.0), s.splat(1.0), s.splat(2.0));
+    let next_up = |v| s.add_up_raw(v, s.splat(ETA));
+    let next_down = |v| s.add_down_raw(v, s.splat(-ETA));
+    let mirrored = s.lt(b, zero);
+    let (a, b) = (
+        s.select(mirrored, s.neg(b), a),
+        s.select(mirrored, s.neg(a), b),
+    );
+    let (ra, rb) = (s.div(one, a), s.div(one, b));
+    let bound = |c: I::V| {
+        let ga = next_up(s.add(next_up(ra), next_up(s.mul(c, a))));
+        let gb = next_up(s.add(next_up(rb), next_up(s.mul(c, b))));
+        let lo = s.mul(two, next_down(s.sqrt(c)));
+        let (ap, ok) = finish(s, s.neg(c), lo, s.max(ga, gb));
+        let normal = s.and(
+            s.le(s.splat(f64::MIN_POSITIVE), c),
+            s.lt(c, s.splat(f64::INFINITY)),
+        );
+        (ap, s.and(ok, normal))
+    };
+    let (cheb, cheb_ok) = bound(s.div(ra, b));
+    let low = s.sub(
+        s.add(s.min(s.mul(cheb.alpha, a), s.mul(cheb.alpha, b)), cheb.zeta),
+        cheb.delta,
+    );
+    let keep = s.lt(zero, low);
+    let (range, range_ok) = bound(s.div(rb, b));
+    let ap = Approx {
+        alpha: s.select(keep, cheb.alpha, range.alpha),
+        zeta: s.select(keep, cheb.zeta, range.zeta),
+        delta: s.select(keep, cheb.delta, range.delta),
+    };
+    let ap = Approx {
+        zeta: s.select(mirrored, s.neg(ap.zeta), ap.zeta),
+        ..ap
+    };
+    let ok = s.and(cheb_ok, s.or(keep, range_ok));
+    let taken = s.and(
+        s.lt(zero, a),
+        s.and(s.lt(a, b), s.lt(b, s.splat(f64::INFINITY))),
+    );
+    (ap, s.and(ok, taken))
+}
+
+/// RevAA's `1/x` (`Reduced::recip`) where [`recip_closed`] applies on the fast bounds.
+/// Returns the forms and the lanes left to the scalar operation.
+#[inline(always)]
+pub(super) fn recip<I: Isa, const N: usize>(s: I, x: Form<I, N>) -> (Form<I, N>, I::M) {
+    let (a, b) = bounds_fast(s, x);
+    let (ap, good) = recip_closed(s, a, b);
+    (apply(s, x, ap), s.not(s.and(finite(s, (a, b)), good)))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -361,6 +450,7 @@ mod tests {
         Sqrt,
         Exp,
         Ln,
+        Recip,
     }
 
     impl Fun {
@@ -370,6 +460,7 @@ mod tests {
                 Fun::Sqrt => f.sqrt(),
                 Fun::Exp => f.exp(),
                 Fun::Ln => f.ln(),
+                Fun::Recip => f.recip(),
             }
         }
         fn point(self, v: f64) -> f64 {
@@ -378,6 +469,7 @@ mod tests {
                 Fun::Sqrt => v.max(0.0).sqrt(),
                 Fun::Exp => v.exp(),
                 Fun::Ln => v.ln(),
+                Fun::Recip => 1.0 / v,
             }
         }
     }
@@ -406,6 +498,7 @@ mod tests {
                 Fun::Sqrt => sqrt(s, x),
                 Fun::Exp => exp(s, x),
                 Fun::Ln => ln(s, x),
+                Fun::Recip => recip(s, x),
             };
             let (x0, c, e) = (s.store(r.x0), s.store(r.xs[0]), s.store(r.e));
             let forms = (0..LANES)
@@ -484,9 +577,10 @@ mod tests {
     }
 
     /// The lanes of `fun` hold its values at points of the forms `xs` (libm's value
-    /// within its ulp), are close to the scalar form's range, and take most forms (the
-    /// rest are left to the scalar operation).
-    fn lanes_enclose_and_stay_close(fun: Fun, xs: &[RevAa<1>]) {
+    /// within its ulp), are close to the scalar form's range (`exact`: the same bits on
+    /// the tight paths), and take most forms (the rest are left to the scalar
+    /// operation).
+    fn lanes_enclose_and_stay_close(fun: Fun, xs: &[RevAa<1>], exact: bool) {
         for path in Path::available_paths() {
             let (mut taken, mut all) = (0, 0);
             for x in xs.chunks_exact(LANES) {
@@ -503,6 +597,15 @@ mod tests {
                         close((rl, rh), want),
                         "{path}, {fun:?}: [{rl}, {rh}] vs {want:?} of {f:?}"
                     );
+                    if exact && path != Path::Avx2 {
+                        let s = fun.form(f);
+                        assert!(
+                            o.x0.to_bits() == s.x0.to_bits()
+                                && o.xs[0].to_bits() == s.xs[0].to_bits()
+                                && o.e.to_bits() == s.e.to_bits(),
+                            "{path}, {fun:?}: {o:?} vs {s:?} of {f:?}"
+                        );
+                    }
                     for eps in [-1.0, -0.5, 0.0, 0.25, 1.0] {
                         for d in [-f.e, 0.0, f.e] {
                             let y = fun.point(f.x0 + f.xs[0] * eps + d);
@@ -538,12 +641,24 @@ mod tests {
 
     #[test]
     fn exp_lanes_enclose_and_stay_close() {
-        lanes_enclose_and_stay_close(Fun::Exp, &shifted_and_narrow(0.0, -8.0));
+        lanes_enclose_and_stay_close(Fun::Exp, &shifted_and_narrow(0.0, -8.0), false);
     }
 
     #[test]
     fn ln_lanes_enclose_and_stay_close() {
-        lanes_enclose_and_stay_close(Fun::Ln, &shifted_and_narrow(6.0, 0.5));
+        lanes_enclose_and_stay_close(Fun::Ln, &shifted_and_narrow(6.0, 0.5), false);
+    }
+
+    /// `1/x` of positive and (mirrored) negative forms: the scalar bits.
+    #[test]
+    fn recip_lanes_are_the_scalar_closed_form() {
+        let mut xs = shifted_and_narrow(6.0, 0.5);
+        xs.extend(
+            shifted_and_narrow(6.0, 0.5)
+                .iter()
+                .map(|f| RevAa::<1>::from_parts(-f.x0, f.xs, f.e)),
+        );
+        lanes_enclose_and_stay_close(Fun::Recip, &xs, true);
     }
 
     /// Unbounded, NaN and degenerate ranges are left to the scalar operation.
@@ -560,7 +675,7 @@ mod tests {
             RevAa::<1>::from_parts(0.0, [1.0], f64::INFINITY),
         ];
         for path in Path::available_paths() {
-            for f in [Fun::Abs, Fun::Sqrt, Fun::Exp, Fun::Ln] {
+            for f in [Fun::Abs, Fun::Sqrt, Fun::Exp, Fun::Ln, Fun::Recip] {
                 let (_, redo) = dispatch(path, Unary { x: &x, f });
                 assert_eq!(redo, 0xff, "{path}, {f:?}");
             }
