@@ -338,6 +338,9 @@ pub fn first_root<A: Arithmetic, S: Shape + ?Sized>(
                 let f: A::Ray = range_on_segment(shape, o, d, a, b);
                 next = search.feed(&f, &ray, stats, &mut stack);
             }
+            Next::Points(ts, n) => {
+                next = search.signs(points_on(&ray, ts, n), stats, &mut stack);
+            }
             Next::Done(hit) => return hit,
         }
     }
@@ -378,8 +381,26 @@ pub enum Next {
     /// The range of the function on the segment `[a, b]` of the ray is needed (pass it
     /// to [`RaySearch::feed`]).
     Eval(f64, f64),
+    /// The values of the function at the points of the ray at the first `n` of these
+    /// parameters are needed, for a sign check (pass them to [`RaySearch::signs`]).
+    Points([f64; 2], usize),
     /// The search is over: the first root, or `None` for no root.
     Done(Option<f64>),
+}
+
+/// The sign check a [`RaySearch`] waits for.
+#[derive(Clone, Copy, Debug)]
+enum Check {
+    /// The values at the ends of the resolved segment `[a, b]` (`shrunk`: pruned from a
+    /// longer one).
+    Ends { a: f64, b: f64, shrunk: bool },
+    /// The value one segment's length past it, the value at `b` being `fb`.
+    Past {
+        a: f64,
+        b: f64,
+        shrunk: bool,
+        fb: f64,
+    },
 }
 
 /// Algorithm 1 on one ray as a state machine that asks for one segment's range at a
@@ -396,6 +417,8 @@ pub struct RaySearch {
     rest: f64,
     t1: f64,
     first_step: f64,
+    /// The sign check asked for by the last [`Next::Points`].
+    check: Option<Check>,
 }
 
 impl RaySearch {
@@ -421,6 +444,7 @@ impl RaySearch {
             rest: t1,
             t1,
             first_step: step,
+            check: None,
         };
         if t0.partial_cmp(&t1).is_none_or(|o| o.is_gt()) {
             return (s, Next::Done(None));
@@ -459,8 +483,7 @@ impl RaySearch {
         stats: &mut RayStats,
         stack: &mut Vec<(f64, f64)>,
     ) -> Next {
-        let (o, d, params) = (ray.o, ray.d, ray.params);
-        let at = |t: f64| point_on_ray(ray.shape_on(t, t), o, d, t);
+        let params = ray.params;
         let (mut a, mut b, t1) = (self.a, self.b, self.t1);
         stats.range_evals += 1;
         let mut keep = f.contains_zero();
@@ -482,45 +505,21 @@ impl RaySearch {
             }
         }
         if keep {
-            let mid = 0.5 * a + 0.5 * b;
             let eps = params.precision.at(a);
             // A segment is reported without a sign change only if its own range holds 0
             // (not one pruned from a longer segment's range): then whether such a pixel
             // hits does not depend on pruning.
-            let resolved = if b - a <= eps * REFINE && !shrunk {
-                true
-            } else if b - a <= eps {
+            if b - a <= eps * REFINE && !shrunk {
+                return self.halve(a, b, shrunk, true, stack);
+            }
+            if b - a <= eps {
                 // Everything before `a` is proved root-free, so a sign change at the ends
-                // certifies the first root within the precision. Without one (tangent
-                // root, feature thinner than the segment, or an overestimated range near
-                // a miss) keep halving down to `eps * REFINE` before reporting, unless
-                // the next segment of the same length certifies a root by a sign change
-                // (an overestimated range just before a crossing, common with IA): then
-                // `b` is within one segment of the first root, report it.
+                // certifies the first root within the precision (see `signs`).
                 stats.point_evals += 2;
-                let (fa, fb) = (at(a), at(b));
-                if opposite(fa, fb) {
-                    true
-                } else {
-                    let c = (b + (b - a)).min(t1);
-                    if c > b {
-                        stats.point_evals += 1;
-                        if opposite(fb, at(c)) {
-                            return Next::Done(Some(b));
-                        }
-                    }
-                    false
-                }
-            } else {
-                false
-            };
-            if resolved || mid <= a || mid >= b || stack.len() == STACK {
-                return Next::Done(Some(mid));
+                self.check = Some(Check::Ends { a, b, shrunk });
+                return Next::Points([a, b], 2);
             }
-            if !shrunk {
-                stack.push((mid, b));
-                b = mid;
-            }
+            return self.halve(a, b, shrunk, false, stack);
         } else if let Some(next) = stack.pop() {
             (a, b) = next;
         } else {
@@ -545,6 +544,75 @@ impl RaySearch {
         self.b = b;
         Next::Eval(a, b)
     }
+
+    /// Goes on with `v`, the values asked for by the last [`Next::Points`] (the first
+    /// `n` of them). A resolved segment `[a, b]` (everything before `a` proved
+    /// root-free) with a sign change at its ends holds the first root within the
+    /// precision. Without one (tangent root, feature thinner than the segment, or an
+    /// overestimated range near a miss) the search keeps halving down to
+    /// `eps * REFINE` before reporting, unless the next segment of the same length
+    /// certifies a root by a sign change (an overestimated range just before a
+    /// crossing, common with IA): then `b` is within one segment of the first root.
+    pub fn signs(
+        &mut self,
+        v: [f64; 2],
+        stats: &mut RayStats,
+        stack: &mut Vec<(f64, f64)>,
+    ) -> Next {
+        match self.check.take() {
+            Some(Check::Ends { a, b, shrunk }) => {
+                let (fa, fb) = (v[0], v[1]);
+                if opposite(fa, fb) {
+                    return self.halve(a, b, shrunk, true, stack);
+                }
+                let c = (b + (b - a)).min(self.t1);
+                if c > b {
+                    stats.point_evals += 1;
+                    self.check = Some(Check::Past { a, b, shrunk, fb });
+                    return Next::Points([c, c], 1);
+                }
+                self.halve(a, b, shrunk, false, stack)
+            }
+            Some(Check::Past { a, b, shrunk, fb }) => {
+                if opposite(fb, v[0]) {
+                    return Next::Done(Some(b));
+                }
+                self.halve(a, b, shrunk, false, stack)
+            }
+            None => unreachable!("RaySearch::signs without a sign check asked for"),
+        }
+    }
+
+    /// The segment `[a, b]` whose range holds 0: reported at its middle where
+    /// `resolved` (or it can be halved no further), else its first half asked for (the
+    /// second stacked), or, where pruning `shrunk` it, itself again.
+    fn halve(
+        &mut self,
+        a: f64,
+        mut b: f64,
+        shrunk: bool,
+        resolved: bool,
+        stack: &mut Vec<(f64, f64)>,
+    ) -> Next {
+        let mid = 0.5 * a + 0.5 * b;
+        if resolved || mid <= a || mid >= b || stack.len() == STACK {
+            return Next::Done(Some(mid));
+        }
+        if !shrunk {
+            stack.push((mid, b));
+            b = mid;
+        }
+        self.a = a;
+        self.b = b;
+        Next::Eval(a, b)
+    }
+}
+
+/// The values of `ray`'s function at the first `n` of the parameters `ts`, as
+/// [`RaySearch::signs`] takes them.
+fn points_on<S: Shape + ?Sized>(ray: &RayCtx<'_, S>, ts: [f64; 2], n: usize) -> [f64; 2] {
+    let at = |t: f64| point_on_ray(ray.shape_on(t, t), ray.o, ray.d, t);
+    [at(ts[0]), if n > 1 { at(ts[1]) } else { f64::NAN }]
 }
 
 /// One ray for [`first_roots`]: `o + t d` searched as `start` says.
@@ -592,7 +660,8 @@ pub const SLOTS: usize = 8 * LANES;
 struct Slot {
     ray: usize,
     search: RaySearch,
-    seg: (f64, f64),
+    /// What it waits for: [`Next::Eval`] or [`Next::Points`].
+    next: Next,
     stats: RayStats,
 }
 
@@ -620,6 +689,7 @@ pub struct Lockstep<A: Arithmetic> {
     ranges: Vec<Option<A::Ray>>,
     groups: Groups,
     batch: Batch<A::RayPack>,
+    probes: Box<Probes>,
 }
 
 impl<A: Arithmetic> Default for Lockstep<A> {
@@ -630,6 +700,7 @@ impl<A: Arithmetic> Default for Lockstep<A> {
             ranges: (0..SLOTS).map(|_| None).collect(),
             groups: Groups::default(),
             batch: Batch::default(),
+            probes: Box::default(),
         }
     }
 }
@@ -651,6 +722,7 @@ impl<A: Arithmetic> Lockstep<A> {
             ranges,
             groups,
             batch,
+            probes,
         } = self;
         slots.iter_mut().for_each(|s| *s = None);
         lockstep::<A, S>(
@@ -658,7 +730,7 @@ impl<A: Arithmetic> Lockstep<A> {
             windows,
             params,
             rays,
-            (slots, stacks, ranges, groups, batch),
+            (slots, stacks, ranges, groups, batch, probes),
             stop,
             done,
         )
@@ -672,6 +744,7 @@ type Buffers<'b, A> = (
     &'b mut [Option<<A as Arithmetic>::Ray>],
     &'b mut Groups,
     &'b mut Batch<<A as Arithmetic>::RayPack>,
+    &'b mut Probes,
 );
 
 /// The loop of [`first_roots_until`], in `buffers` (every slot empty).
@@ -680,7 +753,7 @@ fn lockstep<A: Arithmetic, S: Shape + ?Sized>(
     windows: &[&Windows<S>],
     params: &RayParams,
     rays: &[RayJob],
-    (slots, stacks, ranges, groups, batch): Buffers<'_, A>,
+    (slots, stacks, ranges, groups, batch, probes): Buffers<'_, A>,
     stop: impl Fn() -> bool,
     mut done: impl FnMut(usize, Option<f64>, RayStats),
 ) -> bool {
@@ -706,30 +779,46 @@ fn lockstep<A: Arithmetic, S: Shape + ?Sized>(
                 let (search, next) =
                     RaySearch::start(&ctx(&rays[ray]), rays[ray].start, &mut stats, stack);
                 match next {
-                    Next::Eval(a, b) => {
+                    Next::Done(hit) => done(ray, hit, stats),
+                    next => {
                         *slot = Some(Slot {
                             ray,
                             search,
-                            seg: (a, b),
+                            next,
                             stats,
                         })
                     }
-                    Next::Done(hit) => done(ray, hit, stats),
                 }
             }
         }
-        let shapes: [Option<&S>; SLOTS] = core::array::from_fn(|k| {
-            let s = slots[k].as_ref()?;
-            Some(ctx(&rays[s.ray]).shape_on(s.seg.0, s.seg.1))
-        });
-        groups.regroup(&shapes);
-        if groups.is_empty() {
+        if slots.iter().all(Option::is_none) {
             return true;
         }
-        let inputs = |k: usize| {
-            let s = slots[k].as_ref().expect("a grouped slot is active");
-            let r = &rays[s.ray];
-            ray_inputs::<A::Ray>(r.o, r.d, s.seg.0, s.seg.1)
+        probes.check(slots, |k| ctx(&rays[k]));
+        for k in 0..SLOTS {
+            let Some(s) = slots[k].as_mut() else { continue };
+            let Next::Points(..) = s.next else { continue };
+            let next = s
+                .search
+                .signs(probes.values[k], &mut s.stats, &mut stacks[k]);
+            settle(&mut slots[k], next, &mut done);
+        }
+        let shapes: [Option<&S>; SLOTS] = core::array::from_fn(|k| match slots[k].as_ref()? {
+            Slot {
+                ray,
+                next: Next::Eval(a, b),
+                ..
+            } => Some(ctx(&rays[*ray]).shape_on(*a, *b)),
+            _ => None,
+        });
+        groups.regroup(&shapes);
+        let inputs = |k: usize| match slots[k].as_ref() {
+            Some(Slot {
+                ray,
+                next: Next::Eval(a, b),
+                ..
+            }) => ray_inputs::<A::Ray>(rays[*ray].o, rays[*ray].d, *a, *b),
+            _ => unreachable!("a grouped slot waits for a range"),
         };
         for group in groups.iter() {
             let sh = shapes[group[0]].expect("a grouped slot has a shape");
@@ -740,15 +829,106 @@ fn lockstep<A: Arithmetic, S: Shape + ?Sized>(
                 continue;
             };
             s.stats.range_ops += shapes[k].and_then(Shape::tape_len).unwrap_or(0) as u64;
-            match s
+            let next = s
                 .search
-                .feed(&f, &ctx(&rays[s.ray]), &mut s.stats, &mut stacks[k])
-            {
-                Next::Eval(a, b) => s.seg = (a, b),
-                Next::Done(hit) => {
-                    done(s.ray, hit, s.stats);
-                    slots[k] = None;
-                }
+                .feed(&f, &ctx(&rays[s.ray]), &mut s.stats, &mut stacks[k]);
+            settle(&mut slots[k], next, &mut done);
+        }
+    }
+}
+
+/// A slot's search goes on with `next`: done (reported, the slot freed) or waiting.
+fn settle(
+    slot: &mut Option<Slot>,
+    next: Next,
+    done: &mut impl FnMut(usize, Option<f64>, RayStats),
+) {
+    match (slot.as_mut(), next) {
+        (Some(s), Next::Done(hit)) => {
+            done(s.ray, hit, s.stats);
+            *slot = None;
+        }
+        (Some(s), next) => s.next = next,
+        (None, _) => {}
+    }
+}
+
+/// The sign checks of the searches in flight, evaluated together: every point asked
+/// for by a [`Next::Points`], one batched point evaluation per shape
+/// ([`Shape::eval_batch`] over `f64`, each lane what [`Shape::eval`] gives).
+pub(crate) struct Probes {
+    /// Per slot, the values asked for.
+    values: [[f64; 2]; SLOTS],
+    /// The points of one shape's batch, their slot and index, and their values.
+    x: Vec<f64>,
+    y: Vec<f64>,
+    z: Vec<f64>,
+    owner: Vec<(usize, usize)>,
+    out: Vec<f64>,
+    groups: Groups,
+}
+
+impl Default for Probes {
+    fn default() -> Self {
+        Probes {
+            values: [[f64::NAN; 2]; SLOTS],
+            x: Vec::new(),
+            y: Vec::new(),
+            z: Vec::new(),
+            owner: Vec::new(),
+            out: Vec::new(),
+            groups: Groups::default(),
+        }
+    }
+}
+
+impl Probes {
+    /// Evaluates the points every slot waiting on [`Next::Points`] asks for into
+    /// `values`; `ctx(ray)` is the ray's context.
+    fn check<'s, S: Shape + ?Sized + 's>(
+        &mut self,
+        slots: &[Option<Slot>],
+        ctx: impl Fn(usize) -> RayCtx<'s, S>,
+    ) {
+        let mut shapes: [Option<&'s S>; 2 * SLOTS] = [None; 2 * SLOTS];
+        let mut at = [(0usize, 0usize, DVec3::ZERO); 2 * SLOTS];
+        let mut m = 0;
+        for (k, slot) in slots.iter().enumerate() {
+            let Some(Slot {
+                ray,
+                next: Next::Points(ts, n),
+                ..
+            }) = slot
+            else {
+                continue;
+            };
+            let c = ctx(*ray);
+            for (i, &t) in ts.iter().enumerate().take(*n) {
+                shapes[m] = Some(c.shape_on(t, t));
+                at[m] = (k, i, c.o + c.d * t);
+                m += 1;
+            }
+        }
+        if m == 0 {
+            return;
+        }
+        self.groups.regroup(&shapes[..m]);
+        for group in self.groups.iter() {
+            let sh = shapes[group[0]].expect("a grouped point has a shape");
+            self.x.clear();
+            self.y.clear();
+            self.z.clear();
+            self.owner.clear();
+            for &p in group {
+                let (k, i, q) = at[p];
+                self.x.push(q.x);
+                self.y.push(q.y);
+                self.z.push(q.z);
+                self.owner.push((k, i));
+            }
+            sh.eval_batch(&self.x, &self.y, &self.z, &mut self.out);
+            for (&(k, i), &v) in self.owner.iter().zip(&self.out) {
+                self.values[k][i] = v;
             }
         }
     }
