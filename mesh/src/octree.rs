@@ -31,9 +31,11 @@
 //! so these checks are bounded by the mesh's size on their own and take nothing from
 //! the probes' budget (nor leave cells unresolved).
 //!
-//! Every [`SPECIALISE_EVERY`] levels the shape is specialised to the cell
-//! ([`Shape::specialise`], sign-only) and the shorter shape serves the cell's subtree's
-//! range tests. Point values (corner signs, finer lattices) use each cell's value-exact
+//! The shape is specialised to every cell (sign-only): each task's top cell by
+//! [`Shape::specialise`], every cell below from the interval evaluation of its
+//! parent's eight sub-cells in one batch ([`Shape::eval_boxes_traced`], then
+//! [`Shape::specialise_traced`] per sub-cell, without evaluating it again); the
+//! shorter shape serves the cell's subtree's range tests. Point values (corner signs, finer lattices) use each cell's value-exact
 //! tape ([`super::cell_tape`]), specialised at every level from its parent's, which
 //! each leaf kept for contouring hands on ([`Descent::tapes`]).
 
@@ -43,14 +45,12 @@ use super::consistency::finer_topology;
 use super::exclusion::{gradient_verdict, interval_excludes, Test, Verdict};
 use super::grid::{cell_inputs, corner_mask, corner_of, crosses, Clipped, Grid};
 use arith_core::{Arithmetic, Range};
-use model_ir::arith::arith_ia::IaArith;
+use model_ir::arith::arith_ia::{IaArith, Interval};
 use model_ir::shape::{Aabb, Shape};
 use model_ir::shape_batch::Batch;
+use model_ir::Trace;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
-
-/// Specialise the shape to a cell every this many levels.
-pub const SPECIALISE_EVERY: u32 = 1;
 
 /// Sub-cells a probe evaluates at most per leaf.
 pub const PROBE_BUDGET: u32 = 256;
@@ -63,6 +63,17 @@ pub const PROBE_PER_CELL: u64 = 4;
 
 /// Cells are handed to threads as the subtrees below this level.
 const TASK_LEVEL: u32 = 3;
+
+/// A task's buffers for [`Octree::kid_tapes`], kept from cell to cell.
+#[derive(Default)]
+struct Scratch {
+    /// The sub-cells' boxes, per axis.
+    boxes: [Vec<Interval>; 3],
+    /// Their ranges.
+    out: Vec<Interval>,
+    /// What their evaluation recorded for specialisation.
+    trace: Trace,
+}
 
 /// What the search found.
 #[derive(Clone, Debug)]
@@ -206,7 +217,7 @@ impl<S: Shape> Octree<'_, S> {
             .map(|&c| {
                 let mut d = Descent::default();
                 if !self.cancelled() {
-                    self.node::<A>(top, c, &mut d);
+                    self.node::<A>(top, c, &mut d, &mut Scratch::default());
                 } else {
                     d.cancelled = true;
                 }
@@ -252,8 +263,9 @@ impl<S: Shape> Octree<'_, S> {
         corner_mask(value, &self.domain, &self.grid, level, c)
     }
 
-    /// Visits cell `c` at `level` (the top of a task's subtree).
-    fn node<A: Arithmetic>(&self, level: u32, c: [u32; 3], d: &mut Descent<S>) {
+    /// Visits cell `c` at `level` (the top of a task's subtree): the shape is
+    /// specialised to it, and its subtree to each cell from its parent's evaluation.
+    fn node<A: Arithmetic>(&self, level: u32, c: [u32; 3], d: &mut Descent<S>, sc: &mut Scratch) {
         if d.cancelled || self.cancelled() {
             d.cancelled = true;
             return;
@@ -264,14 +276,22 @@ impl<S: Shape> Octree<'_, S> {
             d.pruned += 1;
             return;
         }
+        let special = self
+            .shape
+            .specialises()
+            .then(|| self.shape.specialise(&[cell_inputs::<A::Cell>(&b)]))
+            .flatten();
+        d.specialised += special.is_some() as u64;
         let value = specialise_to(self.shape, &None, &b);
-        self.crossing::<A>(self.shape, &value, level, c, d);
+        let sub = special.as_ref().unwrap_or(self.shape);
+        self.crossing::<A>(sub, &value, level, c, d, sc);
     }
 
-    /// A cell whose range holds 0, with its sign tape `shape` (for range tests) and
-    /// its value tape `value`: a leaf is kept or probed, any other cell's eight
-    /// children are evaluated in one batch ([`Batch`]) and those whose range holds 0
-    /// visited in turn, each with its own value tape.
+    /// A cell whose range holds 0, with its sign tape `shape` (specialised to it, for
+    /// range tests) and its value tape `value`: a leaf is kept or probed, any other
+    /// cell's eight children are evaluated in one batch ([`Batch`]) and those whose
+    /// range holds 0 visited in turn, each with its own sign tape ([`Octree::kid_tapes`])
+    /// and value tape.
     fn crossing<A: Arithmetic>(
         &self,
         shape: &S,
@@ -279,20 +299,15 @@ impl<S: Shape> Octree<'_, S> {
         level: u32,
         c: [u32; 3],
         d: &mut Descent<S>,
+        sc: &mut Scratch,
     ) {
-        let b = self.grid.cell_box(level, c);
-        let special = (level.checked_rem(SPECIALISE_EVERY) == Some(0) && shape.specialises())
-            .then(|| shape.specialise(&[cell_inputs::<A::Cell>(&b)]))
-            .flatten();
-        d.specialised += special.is_some() as u64;
-        let sub = special.as_ref().unwrap_or(shape);
         if level == self.level {
-            self.leaf::<A>(sub, value, c, d);
+            self.leaf::<A>(shape, value, c, d);
             return;
         }
         let kids: [[u32; 3]; 8] = core::array::from_fn(|i| child(c, i));
         let clipped = Clipped {
-            inner: sub,
+            inner: shape,
             domain: self.domain,
         };
         let mut ranges: [Option<A::Cell>; 8] = Default::default();
@@ -302,24 +317,64 @@ impl<S: Shape> Octree<'_, S> {
             |i| cell_inputs(&self.grid.cell_box(level + 1, kids[i])),
             &mut ranges,
         );
+        d.visited += 8;
+        let mut live = [[0u32; 3]; 8];
+        let mut n = 0;
         for (k, f) in kids.into_iter().zip(ranges) {
+            if f.is_some_and(|f| f.contains_zero()) {
+                live[n] = k;
+                n += 1;
+            }
+        }
+        d.pruned += 8 - n as u64;
+        let tapes = self.kid_tapes(shape, level + 1, &live[..n], d, sc);
+        for (k, t) in live[..n].iter().zip(tapes) {
             if d.cancelled || self.cancelled() {
                 d.cancelled = true;
                 return;
             }
-            d.visited += 1;
-            if !f.is_some_and(|f| f.contains_zero()) {
-                d.pruned += 1;
-                continue;
-            }
-            // A leaf specialises only once its corners show a sign change.
+            // A leaf specialises its value tape only once its corners show a sign
+            // change.
             let kv = if level + 1 == self.level {
                 value.clone()
             } else {
-                specialise_to(self.shape, value, &self.grid.cell_box(level + 1, k))
+                specialise_to(self.shape, value, &self.grid.cell_box(level + 1, *k))
             };
-            self.crossing::<A>(sub, &kv, level + 1, k, d);
+            self.crossing::<A>(t.as_ref().unwrap_or(shape), &kv, level + 1, *k, d, sc);
         }
+    }
+
+    /// The sign tapes of the cells `kids` at `level` below a cell whose sign tape is
+    /// `shape`: one interval evaluation of the batch records its trace, from which
+    /// each is specialised ([`Shape::specialise_traced`]: the decisions
+    /// [`Shape::specialise`] takes over that box alone, without evaluating it again).
+    /// `None` where nothing shortens `shape`.
+    fn kid_tapes(
+        &self,
+        shape: &S,
+        level: u32,
+        kids: &[[u32; 3]],
+        d: &mut Descent<S>,
+        sc: &mut Scratch,
+    ) -> [Option<S>; 8] {
+        let mut tapes: [Option<S>; 8] = Default::default();
+        if kids.is_empty() || !shape.specialises() {
+            return tapes;
+        }
+        sc.boxes.iter_mut().for_each(Vec::clear);
+        for k in kids {
+            let b = cell_inputs::<Interval>(&self.grid.cell_box(level, *k));
+            for (v, r) in sc.boxes.iter_mut().zip(b) {
+                v.push(r);
+            }
+        }
+        let [x, y, z] = &sc.boxes;
+        shape.eval_boxes_traced(x, y, z, &mut sc.out, &mut sc.trace);
+        for (j, t) in tapes.iter_mut().take(kids.len()).enumerate() {
+            *t = shape.specialise_traced(&mut sc.trace, j);
+            d.specialised += t.is_some() as u64;
+        }
+        tapes
     }
 
     /// A leaf whose range holds 0 (`value`: a value tape valid over it): kept, with its
