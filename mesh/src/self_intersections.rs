@@ -1,8 +1,9 @@
 //! Self-intersections of a triangle mesh, counted over a bounding volume hierarchy.
 //!
 //! A small AABB tree (median splits along the longest axis of the centroids' box) is
-//! built over the triangles; each triangle queries it for the triangles whose boxes
-//! overlap its own and tests each pair once. A hand-written tree rather than `bvh` or
+//! built over the triangles and traversed against itself, each pair of subtrees whose
+//! boxes overlap compared once (in parallel near the root), down to the pairs of
+//! triangles whose boxes overlap, each tested once. A hand-written tree rather than `bvh` or
 //! `parry3d`: this is all the mesher needs, and it keeps their dependency trees out of
 //! the build.
 //!
@@ -20,10 +21,12 @@
 
 use crate::triangles::Mesh;
 use glam::DVec3;
-use rayon::prelude::*;
 
 /// Triangles per leaf of the tree.
 const LEAF: usize = 4;
+
+/// Levels of the tree whose halves are compared in parallel.
+const PARALLEL_LEVELS: u32 = 8;
 
 /// The number of intersecting pairs of triangles of `mesh`.
 pub fn count(mesh: &Mesh) -> u64 {
@@ -34,21 +37,15 @@ pub fn count(mesh: &Mesh) -> u64 {
         .collect();
     let boxes: Vec<(DVec3, DVec3)> = tris.iter().map(tri_box).collect();
     let bvh = Bvh::build(&boxes);
-    (0..tris.len())
-        .into_par_iter()
-        .map_init(Vec::new, |stack, i| {
-            let mut n = 0u64;
-            bvh.query(&boxes[i], stack, &mut |j| {
-                if j > i
-                    && overlap(&boxes[i], &boxes[j])
-                    && intersect(&mesh.triangles[i], &tris[i], &mesh.triangles[j], &tris[j])
-                {
-                    n += 1;
-                }
-            });
-            n
-        })
-        .sum()
+    if bvh.nodes.is_empty() {
+        return 0;
+    }
+    let test = |i: usize, j: usize| {
+        let (i, j) = (i.min(j), i.max(j));
+        (overlap(&boxes[i], &boxes[j])
+            && intersect(&mesh.triangles[i], &tris[i], &mesh.triangles[j], &tris[j])) as u64
+    };
+    bvh.pairs(0, 0, PARALLEL_LEVELS, &test)
 }
 
 fn tri_box(t: &[DVec3; 3]) -> (DVec3, DVec3) {
@@ -118,26 +115,71 @@ impl Bvh {
         id
     }
 
-    /// Calls `hit` with every triangle of the leaves whose boxes overlap `b` (`stack`:
-    /// scratch space, reused between queries).
-    fn query(&self, b: &(DVec3, DVec3), stack: &mut Vec<usize>, hit: &mut impl FnMut(usize)) {
-        if self.nodes.is_empty() {
-            return;
-        }
-        stack.clear();
-        stack.push(0);
-        while let Some(n) = stack.pop() {
-            let node = &self.nodes[n];
-            if !overlap(&node.bounds, b) {
-                continue;
-            }
-            if node.leaf {
-                for &i in &self.order[node.kids.0..node.kids.1] {
-                    hit(i);
-                }
+    /// The sum of `test(i, j)` over the pairs of distinct triangles, one of node `a`
+    /// and one of node `b` (both of it where `a == b`), whose nodes' boxes overlap:
+    /// every pair once (a dual traversal of the tree, so each pair of subtrees is
+    /// compared once, where a query per triangle would compare it from both sides).
+    /// The first `par` levels run their halves in parallel.
+    fn pairs<F: Fn(usize, usize) -> u64 + Sync>(
+        &self,
+        a: usize,
+        b: usize,
+        par: u32,
+        test: &F,
+    ) -> u64 {
+        let (na, nb) = (&self.nodes[a], &self.nodes[b]);
+        let join = |x: &(dyn Fn() -> u64 + Sync), y: &(dyn Fn() -> u64 + Sync)| {
+            if par > 0 {
+                let (p, q) = rayon::join(x, y);
+                p + q
             } else {
-                stack.push(node.kids.0);
-                stack.push(node.kids.1);
+                x() + y()
+            }
+        };
+        let down = par.saturating_sub(1);
+        if a == b {
+            if na.leaf {
+                let s = &self.order[na.kids.0..na.kids.1];
+                return (0..s.len())
+                    .flat_map(|i| (i + 1..s.len()).map(move |j| (i, j)))
+                    .map(|(i, j)| test(s[i], s[j]))
+                    .sum();
+            }
+            let (l, r) = na.kids;
+            return join(
+                &|| {
+                    join(&|| self.pairs(l, l, down, test), &|| {
+                        self.pairs(r, r, down, test)
+                    })
+                },
+                &|| self.pairs(l, r, down, test),
+            );
+        }
+        if !overlap(&na.bounds, &nb.bounds) {
+            return 0;
+        }
+        match (na.leaf, nb.leaf) {
+            (true, true) => {
+                let (sa, sb) = (
+                    &self.order[na.kids.0..na.kids.1],
+                    &self.order[nb.kids.0..nb.kids.1],
+                );
+                sa.iter()
+                    .flat_map(|&i| sb.iter().map(move |&j| (i, j)))
+                    .map(|(i, j)| test(i, j))
+                    .sum()
+            }
+            (false, _) => {
+                let (l, r) = na.kids;
+                join(&|| self.pairs(l, b, down, test), &|| {
+                    self.pairs(r, b, down, test)
+                })
+            }
+            (true, false) => {
+                let (l, r) = nb.kids;
+                join(&|| self.pairs(a, l, down, test), &|| {
+                    self.pairs(a, r, down, test)
+                })
             }
         }
     }
