@@ -43,8 +43,11 @@ use super::cell_tape::{specialise_to, tape, CellTape};
 use super::certificate::{cell_gradient, certifies, meet};
 use super::consistency::finer_topology;
 use super::exclusion::{gradient_verdict, interval_excludes, Test, Verdict};
-use super::grid::{cell_inputs, corner_mask, corner_of, crosses, Clipped, Grid};
+use super::grid::{
+    cell_inputs, corner_mask, corner_of, corner_offset, crosses, inside_batch, Clipped, Grid,
+};
 use arith_core::{Arithmetic, Range};
+use glam::DVec3;
 use model_ir::arith::arith_ia::{IaArith, Interval};
 use model_ir::shape::{Aabb, Shape};
 use model_ir::shape_batch::Batch;
@@ -306,6 +309,11 @@ impl<S: Shape> Octree<'_, S> {
             return;
         }
         let kids: [[u32; 3]; 8] = core::array::from_fn(|i| child(c, i));
+        let boxes: [Aabb; 8] = kids.map(|k| self.grid.cell_box(level + 1, k));
+        // Interval arithmetic over the eight first (one batch, traced for their
+        // tapes), the cheapest; the arithmetic's tighter range where it holds 0.
+        let near = self.interval_batch(shape, &boxes, sc);
+        let group: Vec<usize> = (0..8).filter(|&i| near[i]).collect();
         let clipped = Clipped {
             inner: shape,
             domain: self.domain,
@@ -313,22 +321,19 @@ impl<S: Shape> Octree<'_, S> {
         let mut ranges: [Option<A::Cell>; 8] = Default::default();
         Batch::<A::CellPack>::default().eval(
             &clipped,
-            &[0, 1, 2, 3, 4, 5, 6, 7],
-            |i| cell_inputs(&self.grid.cell_box(level + 1, kids[i])),
+            &group,
+            |i| cell_inputs(&boxes[i]),
             &mut ranges,
         );
         d.visited += 8;
-        let mut live = [[0u32; 3]; 8];
-        let mut n = 0;
-        for (k, f) in kids.into_iter().zip(ranges) {
-            if f.is_some_and(|f| f.contains_zero()) {
-                live[n] = k;
-                n += 1;
-            }
-        }
-        d.pruned += 8 - n as u64;
-        let tapes = self.kid_tapes(shape, level + 1, &live[..n], d, sc);
-        for (k, t) in live[..n].iter().zip(tapes) {
+        let live: Vec<usize> = group
+            .into_iter()
+            .filter(|&i| ranges[i].as_ref().is_some_and(|f| f.contains_zero()))
+            .collect();
+        d.pruned += 8 - live.len() as u64;
+        let tapes = self.kid_tapes(shape, &live, d, sc);
+        let live = live.iter().map(|&i| kids[i]);
+        for (k, t) in live.zip(tapes) {
             if d.cancelled || self.cancelled() {
                 d.cancelled = true;
                 return;
@@ -338,40 +343,48 @@ impl<S: Shape> Octree<'_, S> {
             let kv = if level + 1 == self.level {
                 value.clone()
             } else {
-                specialise_to(self.shape, value, &self.grid.cell_box(level + 1, *k))
+                specialise_to(self.shape, value, &self.grid.cell_box(level + 1, k))
             };
-            self.crossing::<A>(t.as_ref().unwrap_or(shape), &kv, level + 1, *k, d, sc);
+            self.crossing::<A>(t.as_ref().unwrap_or(shape), &kv, level + 1, k, d, sc);
         }
     }
 
-    /// The sign tapes of the cells `kids` at `level` below a cell whose sign tape is
-    /// `shape`: one interval evaluation of the batch records its trace, from which
-    /// each is specialised ([`Shape::specialise_traced`]: the decisions
+    /// Whether the interval range of `shape` clipped to the domain holds 0 over each of
+    /// `boxes`: one batch ([`Shape::eval_boxes_traced`]), whose trace
+    /// [`Octree::kid_tapes`] reads.
+    fn interval_batch(&self, shape: &S, boxes: &[Aabb; 8], sc: &mut Scratch) -> [bool; 8] {
+        let inputs = boxes.map(|b| cell_inputs::<Interval>(&b));
+        for (a, v) in sc.boxes.iter_mut().enumerate() {
+            v.clear();
+            v.extend(inputs.iter().map(|r| r[a]));
+        }
+        let [x, y, z] = &sc.boxes;
+        shape.eval_boxes_traced(x, y, z, &mut sc.out, &mut sc.trace);
+        let clipped = Clipped {
+            inner: shape,
+            domain: self.domain,
+        };
+        core::array::from_fn(|i| {
+            let [x, y, z] = &inputs[i];
+            clipped.clip(sc.out[i], x, y, z).contains_zero()
+        })
+    }
+
+    /// The sign tapes of the sub-cells `kids` (indices of the batch
+    /// [`Octree::interval_batch`] evaluated last with `shape`): each specialised from
+    /// that evaluation's trace ([`Shape::specialise_traced`]: the decisions
     /// [`Shape::specialise`] takes over that box alone, without evaluating it again).
     /// `None` where nothing shortens `shape`.
     fn kid_tapes(
         &self,
         shape: &S,
-        level: u32,
-        kids: &[[u32; 3]],
+        kids: &[usize],
         d: &mut Descent<S>,
         sc: &mut Scratch,
     ) -> [Option<S>; 8] {
         let mut tapes: [Option<S>; 8] = Default::default();
-        if kids.is_empty() || !shape.specialises() {
-            return tapes;
-        }
-        sc.boxes.iter_mut().for_each(Vec::clear);
-        for k in kids {
-            let b = cell_inputs::<Interval>(&self.grid.cell_box(level, *k));
-            for (v, r) in sc.boxes.iter_mut().zip(b) {
-                v.push(r);
-            }
-        }
-        let [x, y, z] = &sc.boxes;
-        shape.eval_boxes_traced(x, y, z, &mut sc.out, &mut sc.trace);
-        for (j, t) in tapes.iter_mut().take(kids.len()).enumerate() {
-            *t = shape.specialise_traced(&mut sc.trace, j);
+        for (t, &i) in tapes.iter_mut().zip(kids) {
+            *t = shape.specialise_traced(&mut sc.trace, i);
             d.specialised += t.is_some() as u64;
         }
         tapes
@@ -458,23 +471,34 @@ impl<S: Shape> Octree<'_, S> {
             d.unresolved(&b);
             return false;
         }
+        let l = level + 1;
+        let kids: [[u32; 3]; 8] = core::array::from_fn(|i| child(c, i));
+        let boxes: [Aabb; 8] = kids.map(|k| self.grid.cell_box(l, k));
+        // The cheapest test first, over the eight in one batch; the arithmetic's range
+        // comes with the gradient's ranges in a sub-cell's own probe. The corner signs
+        // of the eight, a 3^3 lattice, once one is needed.
+        let near = interval_holds_zero(shape, &self.domain, &boxes);
+        let mut signs = None;
         for i in 0..8 {
-            let (l, k) = (level + 1, child(c, i));
             if *budget == 0 {
-                d.unresolved(&self.grid.cell_box(l, k));
+                d.unresolved(&boxes[i]);
                 continue;
             }
             *budget -= 1;
             d.probed += 1;
-            // The cheapest test first; the arithmetic's range comes with the gradient's
-            // ranges in the sub-cell's own probe.
-            let kb = self.grid.cell_box(l, k);
-            if interval_excludes(shape, &self.domain, &kb) {
+            if !near[i] {
                 d.excluded += 1;
                 continue;
             }
-            let m = self.corner_mask(value, l, k, d);
-            if crosses(m) || self.probe::<A>(shape, value, l, k, d, budget) {
+            let s = signs.get_or_insert_with(|| {
+                d.point_evals += 27;
+                sub_lattice(value, &self.domain, &self.grid, l, c)
+            });
+            let m = (0..8).fold(0u8, |m, j| {
+                let [x, y, z] = corner_of(corner_offset(i), j);
+                m | (s[(x + 3 * y + 9 * z) as usize] as u8) << j
+            });
+            if crosses(m) || self.probe::<A>(shape, value, l, kids[i], d, budget) {
                 d.needs = d.needs.max(l);
                 return true;
             }
@@ -499,6 +523,40 @@ impl<S: Shape> Octree<'_, S> {
             d.deeper.push((level + k, c));
         }
     }
+}
+
+/// Whether the interval range of `shape` clipped to `domain` holds 0 over each of
+/// `boxes` (one batch evaluation).
+fn interval_holds_zero<S: Shape>(shape: &S, domain: &Aabb, boxes: &[Aabb; 8]) -> [bool; 8] {
+    let clipped = Clipped {
+        inner: shape,
+        domain: *domain,
+    };
+    let inputs = boxes.map(|b| cell_inputs::<Interval>(&b));
+    let [x, y, z]: [Vec<Interval>; 3] =
+        core::array::from_fn(|a| inputs.iter().map(|r| r[a]).collect());
+    let mut out = Vec::with_capacity(8);
+    clipped.eval_batch(&x, &y, &z, &mut out);
+    core::array::from_fn(|i| out[i].contains_zero())
+}
+
+/// The signs (inside: `f >= 0`) of `shape` clipped to `domain` at the `3^3` corners of
+/// the eight sub-cells at `level` of cell `c` (one level up), `x + 3 y + 9 z`: one
+/// batch, the values [`corner_mask`] gives each sub-cell.
+fn sub_lattice<S: Shape>(
+    shape: &S,
+    domain: &Aabb,
+    grid: &Grid,
+    level: u32,
+    c: [u32; 3],
+) -> [bool; 27] {
+    let points: [DVec3; 27] = core::array::from_fn(|i| {
+        let o = [i % 3, i / 3 % 3, i / 9].map(|v| v as u32);
+        grid.point(level, [0, 1, 2].map(|a| 2 * c[a] + o[a]))
+    });
+    let mut signs = Vec::with_capacity(27);
+    inside_batch(shape, domain, &points, &mut signs);
+    core::array::from_fn(|i| signs[i])
 }
 
 /// Whether `g` (the gradient's ranges over a cell) has one sign on every axis, with
