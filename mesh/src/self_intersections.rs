@@ -25,6 +25,9 @@ use glam::DVec3;
 /// Triangles per leaf of the tree.
 const LEAF: usize = 4;
 
+/// Subtrees over more triangles than this build their halves in parallel.
+const PARALLEL_BUILD: usize = 4096;
+
 /// Levels of the tree whose halves are compared in parallel.
 const PARALLEL_LEVELS: u32 = 8;
 
@@ -71,48 +74,13 @@ struct Bvh {
 
 impl Bvh {
     fn build(boxes: &[(DVec3, DVec3)]) -> Bvh {
-        let mut b = Bvh {
-            nodes: Vec::with_capacity(2 * boxes.len() / LEAF + 1),
-            order: (0..boxes.len()).collect(),
+        let mut order: Vec<usize> = (0..boxes.len()).collect();
+        let nodes = if boxes.is_empty() {
+            Vec::new()
+        } else {
+            subtree(boxes, &mut order, 0)
         };
-        if !boxes.is_empty() {
-            b.split(boxes, 0, boxes.len());
-        }
-        b
-    }
-
-    /// Builds the node over `order[start..end]`, returning its index.
-    fn split(&mut self, boxes: &[(DVec3, DVec3)], start: usize, end: usize) -> usize {
-        let bounds = self.order[start..end]
-            .iter()
-            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &i| {
-                (lo.min(boxes[i].0), hi.max(boxes[i].1))
-            });
-        let id = self.nodes.len();
-        self.nodes.push(Node {
-            bounds,
-            kids: (start, end),
-            leaf: true,
-        });
-        if end - start <= LEAF {
-            return id;
-        }
-        let centre = |i: usize| (boxes[i].0 + boxes[i].1) * 0.5;
-        let (clo, chi) = self.order[start..end]
-            .iter()
-            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &i| {
-                (lo.min(centre(i)), hi.max(centre(i)))
-            });
-        let axis = (chi - clo).max_position();
-        let mid = (start + end) / 2;
-        self.order[start..end].select_nth_unstable_by(mid - start, |&a, &b| {
-            centre(a)[axis].total_cmp(&centre(b)[axis])
-        });
-        let l = self.split(boxes, start, mid);
-        let r = self.split(boxes, mid, end);
-        self.nodes[id].kids = (l, r);
-        self.nodes[id].leaf = false;
-        id
+        Bvh { nodes, order }
     }
 
     /// The sum of `test(i, j)` over the pairs of distinct triangles, one of node `a`
@@ -183,6 +151,93 @@ impl Bvh {
             }
         }
     }
+}
+
+/// The nodes of the tree over `order` (positions `base..` of the whole order), its
+/// root first, children's indices into the returned nodes: the halves of subtrees
+/// over more than [`PARALLEL_BUILD`] triangles are built in parallel.
+fn subtree(boxes: &[(DVec3, DVec3)], order: &mut [usize], base: usize) -> Vec<Node> {
+    if order.len() <= PARALLEL_BUILD {
+        let mut nodes = Vec::with_capacity(2 * order.len() / LEAF + 1);
+        split(boxes, order, base, &mut nodes);
+        return nodes;
+    }
+    let (bounds, mid) = partition(boxes, order);
+    let (lo, hi) = order.split_at_mut(mid);
+    let (l, r) = rayon::join(
+        || subtree(boxes, lo, base),
+        || subtree(boxes, hi, base + mid),
+    );
+    let mut nodes = Vec::with_capacity(1 + l.len() + r.len());
+    nodes.push(Node {
+        bounds,
+        kids: (1, 1 + l.len()),
+        leaf: false,
+    });
+    let right = nodes[0].kids.1;
+    for (part, by) in [(l, 1), (r, right)] {
+        nodes.extend(part.into_iter().map(|mut n| {
+            if !n.leaf {
+                n.kids = (n.kids.0 + by, n.kids.1 + by);
+            }
+            n
+        }));
+    }
+    nodes
+}
+
+/// Builds the node over `order` (positions `base..` of the whole order) into `nodes`,
+/// returning its index.
+fn split(
+    boxes: &[(DVec3, DVec3)],
+    order: &mut [usize],
+    base: usize,
+    nodes: &mut Vec<Node>,
+) -> usize {
+    let id = nodes.len();
+    if order.len() <= LEAF {
+        nodes.push(Node {
+            bounds: bounds(boxes, order),
+            kids: (base, base + order.len()),
+            leaf: true,
+        });
+        return id;
+    }
+    let (bounds, mid) = partition(boxes, order);
+    nodes.push(Node {
+        bounds,
+        kids: (0, 0),
+        leaf: false,
+    });
+    let (lo, hi) = order.split_at_mut(mid);
+    let l = split(boxes, lo, base, nodes);
+    let r = split(boxes, hi, base + mid, nodes);
+    nodes[id].kids = (l, r);
+    id
+}
+
+/// The box around the triangles of `order`.
+fn bounds(boxes: &[(DVec3, DVec3)], order: &[usize]) -> (DVec3, DVec3) {
+    order
+        .iter()
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &i| {
+            (lo.min(boxes[i].0), hi.max(boxes[i].1))
+        })
+}
+
+/// The box around the triangles of `order`, and `order` split at its middle along the
+/// longest axis of their centres' box (the lower half first): returns the middle.
+fn partition(boxes: &[(DVec3, DVec3)], order: &mut [usize]) -> ((DVec3, DVec3), usize) {
+    let centre = |i: usize| (boxes[i].0 + boxes[i].1) * 0.5;
+    let (clo, chi) = order
+        .iter()
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &i| {
+            (lo.min(centre(i)), hi.max(centre(i)))
+        });
+    let axis = (chi - clo).max_position();
+    let mid = order.len() / 2;
+    order.select_nth_unstable_by(mid, |&a, &b| centre(a)[axis].total_cmp(&centre(b)[axis]));
+    (bounds(boxes, order), mid)
 }
 
 /// Whether triangles `a` and `b` (indices `ia`, `ib`) intersect other than in the
