@@ -182,16 +182,20 @@ impl Work {
     /// manifold of the same topology, within `max_error` of the group's planes and
     /// without folds. Reads the members' triangles (and their vertices) only.
     fn plan(&self, group: &[u32], lo: DVec3, hi: DVec3, max_error: f64) -> Option<Plan> {
-        let members: FxHashSet<u32> = group.iter().copied().collect();
-        let disk = self.disk(&members)?;
+        // The error first: it rejects most groups of a curved surface, and costs less
+        // than the disk.
         let mut q = Qef::default();
         for &v in group {
             q.merge(&self.qefs[v as usize]);
         }
         let w = q.solve(lo, hi);
         let error = q.residual(w);
-        let ok = !error.is_nan() && error <= max_error * max_error && self.unfolded(&disk, w);
-        ok.then_some(Plan { disk, w, q })
+        if error.is_nan() || error > max_error * max_error {
+            return None;
+        }
+        let members: FxHashSet<u32> = group.iter().copied().collect();
+        let disk = self.disk(&members)?;
+        self.unfolded(&disk, w).then_some(Plan { disk, w, q })
     }
 
     /// The disk of triangles around `members`, if it is one (see the module doc).
