@@ -21,6 +21,7 @@
 
 use crate::triangles::Mesh;
 use glam::DVec3;
+use rayon::prelude::*;
 
 /// Triangles per leaf of the tree.
 const LEAF: usize = 4;
@@ -35,10 +36,10 @@ const PARALLEL_LEVELS: u32 = 8;
 pub fn count(mesh: &Mesh) -> u64 {
     let tris: Vec<[DVec3; 3]> = mesh
         .triangles
-        .iter()
+        .par_iter()
         .map(|t| t.map(|i| DVec3::from(mesh.vertices[i as usize])))
         .collect();
-    let boxes: Vec<(DVec3, DVec3)> = tris.iter().map(tri_box).collect();
+    let boxes: Vec<(DVec3, DVec3)> = tris.par_iter().map(tri_box).collect();
     let bvh = Bvh::build(&boxes);
     if bvh.nodes.is_empty() {
         return 0;
@@ -75,10 +76,11 @@ struct Bvh {
 impl Bvh {
     fn build(boxes: &[(DVec3, DVec3)]) -> Bvh {
         let mut order: Vec<usize> = (0..boxes.len()).collect();
+        let centres: Vec<DVec3> = boxes.par_iter().map(|b| (b.0 + b.1) * 0.5).collect();
         let nodes = if boxes.is_empty() {
             Vec::new()
         } else {
-            subtree(boxes, &mut order, 0)
+            subtree(&(boxes, &centres), &mut order, 0)
         };
         Bvh { nodes, order }
     }
@@ -156,7 +158,7 @@ impl Bvh {
 /// The nodes of the tree over `order` (positions `base..` of the whole order), its
 /// root first, children's indices into the returned nodes: the halves of subtrees
 /// over more than [`PARALLEL_BUILD`] triangles are built in parallel.
-fn subtree(boxes: &[(DVec3, DVec3)], order: &mut [usize], base: usize) -> Vec<Node> {
+fn subtree(boxes: &Boxes, order: &mut [usize], base: usize) -> Vec<Node> {
     if order.len() <= PARALLEL_BUILD {
         let mut nodes = Vec::with_capacity(2 * order.len() / LEAF + 1);
         split(boxes, order, base, &mut nodes);
@@ -188,12 +190,7 @@ fn subtree(boxes: &[(DVec3, DVec3)], order: &mut [usize], base: usize) -> Vec<No
 
 /// Builds the node over `order` (positions `base..` of the whole order) into `nodes`,
 /// returning its index.
-fn split(
-    boxes: &[(DVec3, DVec3)],
-    order: &mut [usize],
-    base: usize,
-    nodes: &mut Vec<Node>,
-) -> usize {
+fn split(boxes: &Boxes, order: &mut [usize], base: usize, nodes: &mut Vec<Node>) -> usize {
     let id = nodes.len();
     if order.len() <= LEAF {
         nodes.push(Node {
@@ -216,28 +213,33 @@ fn split(
     id
 }
 
+/// The triangles' boxes and the boxes' centres.
+type Boxes<'a> = (&'a [(DVec3, DVec3)], &'a [DVec3]);
+
 /// The box around the triangles of `order`.
-fn bounds(boxes: &[(DVec3, DVec3)], order: &[usize]) -> (DVec3, DVec3) {
+fn bounds(boxes: &Boxes, order: &[usize]) -> (DVec3, DVec3) {
     order
         .iter()
         .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &i| {
-            (lo.min(boxes[i].0), hi.max(boxes[i].1))
+            (lo.min(boxes.0[i].0), hi.max(boxes.0[i].1))
         })
 }
 
 /// The box around the triangles of `order`, and `order` split at its middle along the
 /// longest axis of their centres' box (the lower half first): returns the middle.
-fn partition(boxes: &[(DVec3, DVec3)], order: &mut [usize]) -> ((DVec3, DVec3), usize) {
-    let centre = |i: usize| (boxes[i].0 + boxes[i].1) * 0.5;
-    let (clo, chi) = order
-        .iter()
-        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &i| {
-            (lo.min(centre(i)), hi.max(centre(i)))
-        });
+fn partition(boxes: &Boxes, order: &mut [usize]) -> ((DVec3, DVec3), usize) {
+    let (b, c) = *boxes;
+    let inf = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+    let (bounds, (clo, chi)) = order.iter().fold((inf, inf), |(bb, cb), &i| {
+        (
+            (bb.0.min(b[i].0), bb.1.max(b[i].1)),
+            (cb.0.min(c[i]), cb.1.max(c[i])),
+        )
+    });
     let axis = (chi - clo).max_position();
     let mid = order.len() / 2;
-    order.select_nth_unstable_by(mid, |&a, &b| centre(a)[axis].total_cmp(&centre(b)[axis]));
-    (bounds(boxes, order), mid)
+    order.select_nth_unstable_by(mid, |&p, &q| c[p][axis].total_cmp(&c[q][axis]));
+    (bounds, mid)
 }
 
 /// Whether triangles `a` and `b` (indices `ia`, `ib`) intersect other than in the
