@@ -31,13 +31,15 @@
 //! so these checks are bounded by the mesh's size on their own and take nothing from
 //! the probes' budget (nor leave cells unresolved).
 //!
-//! The shape is specialised to every cell (sign-only): each task's top cell by
+//! The shape is specialised to every cell (sign-only): the cube by
 //! [`Shape::specialise`], every cell below from the interval evaluation of its
 //! parent's eight sub-cells in one batch ([`Shape::eval_boxes_traced`], then
 //! [`Shape::specialise_traced`] per sub-cell, without evaluating it again); the
-//! shorter shape serves the cell's subtree's range tests. Point values (corner signs, finer lattices) use each cell's value-exact
-//! tape ([`super::cell_tape`]), specialised at every level from its parent's, which
-//! each leaf kept for contouring hands on ([`Descent::tapes`]).
+//! shorter shape serves the cell's subtree's range tests. The levels above the tasks'
+//! (level 3) are searched once ([`Octree::tops`]), so each task starts from its own
+//! cell's tape. Point values (corner signs, finer lattices) use each cell's
+//! value-exact tape ([`super::cell_tape`]), specialised at every level from its
+//! parent's, which each leaf kept for contouring hands on ([`Descent::tapes`]).
 
 use super::cell_tape::{specialise_to, tape, CellTape};
 use super::certificate::{cell_gradient, certifies, meet};
@@ -76,6 +78,14 @@ struct Scratch {
     out: Vec<Interval>,
     /// What their evaluation recorded for specialisation.
     trace: Trace,
+}
+
+/// A cell where a task starts ([`Octree::tops`]).
+struct Top<S> {
+    c: [u32; 3],
+    /// Its sign tape: an index into the tapes built above it, `None` for the shape.
+    tape: Option<usize>,
+    value: CellTape<S>,
 }
 
 /// What the search found.
@@ -211,16 +221,19 @@ impl<S: Shape> Octree<'_, S> {
     /// are [`Octree::tasks`] of them).
     pub fn search<A: Arithmetic>(&self, done: &(dyn Fn(u64) + Sync)) -> Descent<S> {
         let top = self.level.min(TASK_LEVEL);
-        let n = 1u32 << top;
-        let tasks: Vec<[u32; 3]> = (0..n * n * n)
-            .map(|i| [i % n, i / n % n, i / (n * n)])
-            .collect();
+        let mut all = Descent {
+            needs: self.level,
+            ..Descent::default()
+        };
+        let (tapes, tasks) = self.tops::<A>(top, &mut all, done);
         let parts: Vec<Descent<S>> = tasks
             .par_iter()
-            .map(|&c| {
+            .map(|t| {
                 let mut d = Descent::default();
                 if !self.cancelled() {
-                    self.node::<A>(top, c, &mut d, &mut Scratch::default());
+                    let shape = t.tape.map_or(self.shape, |i| &tapes[i]);
+                    let mut sc = Scratch::default();
+                    self.crossing::<A>(shape, &t.value, top, t.c, &mut d, &mut sc);
                 } else {
                     d.cancelled = true;
                 }
@@ -228,15 +241,78 @@ impl<S: Shape> Octree<'_, S> {
                 d
             })
             .collect();
-        let mut all = Descent {
-            needs: self.level,
-            ..Descent::default()
-        };
         for p in parts {
             all.merge(p);
         }
         all.cancelled |= self.cancelled();
         all
+    }
+
+    /// The cells at level `top` whose range holds 0, with their tapes, from the cube
+    /// down as below it (each level's sign tapes from its parent's batch), in the
+    /// order of their index `x + n y + n^2 z`; the tapes built on the way (which the
+    /// cells' `tape` indexes). `done` is told of the tasks pruned above `top`.
+    fn tops<A: Arithmetic>(
+        &self,
+        top: u32,
+        d: &mut Descent<S>,
+        done: &(dyn Fn(u64) + Sync),
+    ) -> (Vec<S>, Vec<Top<S>>) {
+        let mut tapes = Vec::new();
+        d.visited += 1;
+        let b = self.grid.cell_box(0, [0; 3]);
+        if !self.may_cross::<A>(self.shape, &b) {
+            d.pruned += 1;
+            done(1 << (3 * top));
+            return (tapes, Vec::new());
+        }
+        let special = self
+            .shape
+            .specialises()
+            .then(|| self.shape.specialise(&[cell_inputs::<A::Cell>(&b)]))
+            .flatten();
+        d.specialised += special.is_some() as u64;
+        let tape = special.map(|s| {
+            tapes.push(s);
+            tapes.len() - 1
+        });
+        let value = specialise_to(self.shape, &None, &b);
+        let mut cells = vec![Top {
+            c: [0; 3],
+            tape,
+            value,
+        }];
+        let mut sc = Scratch::default();
+        for level in 0..top {
+            let mut next = Vec::new();
+            for cell in cells {
+                let shape = cell.tape.map_or(self.shape, |i| &tapes[i]);
+                let kids = self.kids::<A>(shape, level, cell.c, d, &mut sc);
+                done((8 - kids.len() as u64) << (3 * (top - level - 1)));
+                let mut built = Vec::new();
+                for (k, t) in kids {
+                    let kv = if level + 1 == self.level {
+                        cell.value.clone()
+                    } else {
+                        specialise_to(self.shape, &cell.value, &self.grid.cell_box(level + 1, k))
+                    };
+                    built.push((k, t, kv));
+                }
+                for (k, t, value) in built {
+                    let tape = match t {
+                        Some(t) => {
+                            tapes.push(t);
+                            Some(tapes.len() - 1)
+                        }
+                        None => cell.tape,
+                    };
+                    next.push(Top { c: k, tape, value });
+                }
+            }
+            cells = next;
+        }
+        cells.sort_unstable_by_key(|t| [t.c[2], t.c[1], t.c[0]]);
+        (tapes, cells)
     }
 
     /// How many subtrees [`Octree::search`] hands to threads.
@@ -266,30 +342,6 @@ impl<S: Shape> Octree<'_, S> {
         corner_mask(value, &self.domain, &self.grid, level, c)
     }
 
-    /// Visits cell `c` at `level` (the top of a task's subtree): the shape is
-    /// specialised to it, and its subtree to each cell from its parent's evaluation.
-    fn node<A: Arithmetic>(&self, level: u32, c: [u32; 3], d: &mut Descent<S>, sc: &mut Scratch) {
-        if d.cancelled || self.cancelled() {
-            d.cancelled = true;
-            return;
-        }
-        d.visited += 1;
-        let b = self.grid.cell_box(level, c);
-        if !self.may_cross::<A>(self.shape, &b) {
-            d.pruned += 1;
-            return;
-        }
-        let special = self
-            .shape
-            .specialises()
-            .then(|| self.shape.specialise(&[cell_inputs::<A::Cell>(&b)]))
-            .flatten();
-        d.specialised += special.is_some() as u64;
-        let value = specialise_to(self.shape, &None, &b);
-        let sub = special.as_ref().unwrap_or(self.shape);
-        self.crossing::<A>(sub, &value, level, c, d, sc);
-    }
-
     /// A cell whose range holds 0, with its sign tape `shape` (specialised to it, for
     /// range tests) and its value tape `value`: a leaf is kept or probed, any other
     /// cell's eight children are evaluated in one batch ([`Batch`]) and those whose
@@ -308,10 +360,37 @@ impl<S: Shape> Octree<'_, S> {
             self.leaf::<A>(shape, value, c, d);
             return;
         }
+        let kids = self.kids::<A>(shape, level, c, d, sc);
+        for (k, t) in kids {
+            if d.cancelled || self.cancelled() {
+                d.cancelled = true;
+                return;
+            }
+            // A leaf specialises its value tape only once its corners show a sign
+            // change.
+            let kv = if level + 1 == self.level {
+                value.clone()
+            } else {
+                specialise_to(self.shape, value, &self.grid.cell_box(level + 1, k))
+            };
+            self.crossing::<A>(t.as_ref().unwrap_or(shape), &kv, level + 1, k, d, sc);
+        }
+    }
+
+    /// The sub-cells of cell `c` at `level` (sign tape `shape`) whose range holds 0,
+    /// each with its own sign tape (`None`: `shape`'s): the eight evaluated in one
+    /// interval batch first (traced for their tapes, [`Octree::kid_tapes`]), the
+    /// cheapest, then in the arithmetic's cell form ([`Batch`]) where that holds 0.
+    fn kids<A: Arithmetic>(
+        &self,
+        shape: &S,
+        level: u32,
+        c: [u32; 3],
+        d: &mut Descent<S>,
+        sc: &mut Scratch,
+    ) -> Vec<([u32; 3], Option<S>)> {
         let kids: [[u32; 3]; 8] = core::array::from_fn(|i| child(c, i));
         let boxes: [Aabb; 8] = kids.map(|k| self.grid.cell_box(level + 1, k));
-        // Interval arithmetic over the eight first (one batch, traced for their
-        // tapes), the cheapest; the arithmetic's tighter range where it holds 0.
         let near = self.interval_batch(shape, &boxes, sc);
         let group: Vec<usize> = (0..8).filter(|&i| near[i]).collect();
         let clipped = Clipped {
@@ -332,21 +411,7 @@ impl<S: Shape> Octree<'_, S> {
             .collect();
         d.pruned += 8 - live.len() as u64;
         let tapes = self.kid_tapes(shape, &live, d, sc);
-        let live = live.iter().map(|&i| kids[i]);
-        for (k, t) in live.zip(tapes) {
-            if d.cancelled || self.cancelled() {
-                d.cancelled = true;
-                return;
-            }
-            // A leaf specialises its value tape only once its corners show a sign
-            // change.
-            let kv = if level + 1 == self.level {
-                value.clone()
-            } else {
-                specialise_to(self.shape, value, &self.grid.cell_box(level + 1, k))
-            };
-            self.crossing::<A>(t.as_ref().unwrap_or(shape), &kv, level + 1, k, d, sc);
-        }
+        live.iter().map(|&i| kids[i]).zip(tapes).collect()
     }
 
     /// Whether the interval range of `shape` clipped to the domain holds 0 over each of
