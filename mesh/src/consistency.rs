@@ -14,7 +14,6 @@
 //! counts and costs no refinement.
 
 use super::grid::{inside_batch, Grid};
-use glam::DVec3;
 use model_ir::shape::{Aabb, Shape};
 
 /// How many levels below the leaf the lattice goes at most (`9^3` points).
@@ -38,26 +37,44 @@ pub fn finer_topology<S: Shape>(
     let n = 1usize << levels;
     let base = c.map(|x| x << levels);
     let fine = level + levels;
-    // Signs on the (n + 1)^3 lattice.
+    // Signs on the (n + 1)^3 lattice, evaluated a sub-level at a time (the points of
+    // sub-level `k` not on a coarser one): a cell whose topology shows at a coarse
+    // sub-level costs that sub-level's points only.
     let m = n + 1;
-    let points: Vec<DVec3> = (0..m * m * m)
-        .map(|i| {
-            let (x, y, z) = (i % m, i / m % m, i / (m * m));
-            grid.point(
-                fine,
-                [base[0] + x as u32, base[1] + y as u32, base[2] + z as u32],
-            )
-        })
-        .collect();
-    let mut signs = Vec::with_capacity(points.len());
-    inside_batch(shape, domain, &points, &mut signs);
-    let coarse = counts(&signs, m, n);
-    for k in 1..=levels {
-        if counts(&signs, m, 1 << (levels - k)) != coarse {
-            return (Some(k), signs.len() as u64);
+    let mut signs = vec![false; m * m * m];
+    let (mut points, mut at, mut got) = (Vec::new(), Vec::new(), Vec::new());
+    let mut evals = 0u64;
+    let mut coarse = None;
+    for k in 0..=levels {
+        let step = 1usize << (levels - k);
+        let coarser = step << 1;
+        points.clear();
+        at.clear();
+        for z in (0..m).step_by(step) {
+            for y in (0..m).step_by(step) {
+                for x in (0..m).step_by(step) {
+                    if k > 0 && x % coarser == 0 && y % coarser == 0 && z % coarser == 0 {
+                        continue;
+                    }
+                    at.push(x + y * m + z * m * m);
+                    let q = [x, y, z].map(|v| v as u32);
+                    points.push(grid.point(fine, [0, 1, 2].map(|a| base[a] + q[a])));
+                }
+            }
+        }
+        inside_batch(shape, domain, &points, &mut got);
+        evals += got.len() as u64;
+        for (&i, &g) in at.iter().zip(&got) {
+            signs[i] = g;
+        }
+        let here = counts(&signs, m, step);
+        match coarse {
+            None => coarse = Some(here),
+            Some(c) if c != here => return (Some(k), evals),
+            Some(_) => {}
         }
     }
-    (None, signs.len() as u64)
+    (None, evals)
 }
 
 /// The numbers of 6-connected components of inside and of outside points on the
@@ -188,9 +205,11 @@ mod tests {
         let x0 = g.point(3, [3, 3, 3]).x + 0.51 * h;
         let (k, evals) = finer_topology(&Slab(x0, h / 5.0), &domain, &g, 3, [3, 3, 3], 3);
         assert_eq!(k, Some(1), "slab not seen");
-        assert_eq!(evals, 729);
-        // A plane through the cell: the corners tell it all.
-        let (k, _) = finer_topology(&Half(x0), &domain, &g, 3, [3, 3, 3], 3);
+        // Seen on the first sub-level's 3^3 points: the finer ones are not evaluated.
+        assert_eq!(evals, 27);
+        // A plane through the cell: the corners tell it all, on every sub-level.
+        let (k, evals) = finer_topology(&Half(x0), &domain, &g, 3, [3, 3, 3], 3);
         assert_eq!(k, None);
+        assert_eq!(evals, 729);
     }
 }

@@ -22,6 +22,7 @@ use arith_core::{Arithmetic, Range, Real};
 use glam::DVec3;
 use model_ir::arith::arith_ia::Interval;
 use model_ir::shape::{Aabb, Shape};
+use std::any::TypeId;
 
 /// Segments narrower than this share of the edge are not split further.
 const MIN_SHARE: f64 = 1.0 / (1u64 << 24) as f64;
@@ -31,10 +32,6 @@ const MAX_EVALS: u32 = 400;
 const REFINE_SHARE: f64 = 1.0 / (1u64 << 44) as f64;
 /// At most this many point evaluations refine one root (bisection alone needs 44).
 const REFINE_STEPS: u32 = 88;
-
-/// A derivative's range that holds 0 by less than this share of its larger end is
-/// checked for monotonicity in interval arithmetic ([`Edge::monotone`]).
-const HAIR: f64 = 1e-9;
 
 /// Tie tolerance of [`branches`], in edge lengths: sheets within about this distance
 /// of the crossing may meet it in one of the edge's cells.
@@ -96,6 +93,18 @@ pub fn crossing<A: Arithmetic, S: Shape>(
     }
 }
 
+/// Whether a derivative's range `d` has one sign, 0 allowed: a weakly monotone `f`
+/// changes sign once at most (`f >= 0` holds on an upper or lower part of the
+/// segment). Where a crease crosses the edge and one of its sheets is level along it,
+/// the derivative is the hull of that sheet's exact 0 and the other's slope: interval
+/// arithmetic keeps that 0 at the range's end, where an affine form's rounding leaves
+/// a hair below it (the segment would be split down to the minimum width). NaN has no
+/// sign.
+fn weakly_monotone(d: &Interval) -> bool {
+    let (lo, hi) = d.bounds();
+    lo >= 0.0 || hi <= 0.0
+}
+
 /// One edge of a shape: `a + t e_axis`.
 struct Edge<'a, S> {
     f: &'a S,
@@ -132,18 +141,6 @@ impl<S: Shape> Edge<'_, S> {
         self.f.eval(x, y, z)
     }
 
-    /// Whether `f` is monotone on `[t0, t1]`, 0 allowed in its derivative: interval
-    /// arithmetic's derivative lies within `[0, ∞)` or `(-∞, 0]`. Where a crease
-    /// crosses the edge and one of its sheets is level along it, the derivative is the
-    /// hull of that sheet's exact 0 and the other's slope; an affine form's rounding
-    /// leaves a hair below 0 there, and the segment would be split down to the minimum
-    /// width. A weakly monotone `f` changes sign once at most: `f >= 0` holds on an
-    /// upper (or lower) part of the segment.
-    fn monotone(&self, t0: f64, t1: f64) -> bool {
-        let (lo, hi) = self.range::<Interval>(t0, t1).g[self.axis].bounds();
-        lo >= 0.0 || hi <= 0.0
-    }
-
     /// The sign-changing roots on `[0, len]` in increasing order, and the range
     /// evaluations spent.
     fn isolate<A: Arithmetic>(&self, len: f64) -> (Vec<f64>, u32) {
@@ -158,20 +155,24 @@ impl<S: Shape> Edge<'_, S> {
                 }
                 continue;
             }
+            // Interval arithmetic first, the cheapest: where its range excludes 0 or its
+            // derivative has one sign (0 allowed), the segment is decided; else the
+            // arithmetic's tighter range.
             evals += 1;
-            let r = self.range::<A::Ray>(t0, t1);
-            if !r.v.contains_zero() {
+            let ia = self.range::<Interval>(t0, t1);
+            let one = if !ia.v.contains_zero() {
                 continue;
-            }
-            let d = &r.g[self.axis];
-            let one = !d.contains_zero() || t1 - t0 <= min_w || {
-                // Only where 0 is a hair inside (a rounded hull with 0), not across.
-                let (lo, hi) = d.bounds();
-                let hair = lo.abs().min(hi.abs()) <= HAIR * lo.abs().max(hi.abs());
-                hair && {
-                    evals += 1;
-                    self.monotone(t0, t1)
+            } else if weakly_monotone(&ia.g[self.axis]) || t1 - t0 <= min_w {
+                true
+            } else if TypeId::of::<A::Ray>() == TypeId::of::<Interval>() {
+                false
+            } else {
+                evals += 1;
+                let r = self.range::<A::Ray>(t0, t1);
+                if !r.v.contains_zero() {
+                    continue;
                 }
+                !r.g[self.axis].contains_zero()
             };
             if one {
                 // Monotone: one root where the ends differ, none where they agree.

@@ -137,6 +137,14 @@ impl<S> Clipped<'_, S> {
     }
 }
 
+impl<S> Clipped<'_, S> {
+    /// `f`, the inner shape's value (or range) at `(x, y, z)`, clipped as
+    /// [`Clipped::eval`] clips it.
+    pub fn clip<R: Real>(&self, f: R, x: &R, y: &R, z: &R) -> R {
+        f.min(&self.walls(x, y, z))
+    }
+}
+
 impl<S: Shape> Shape for Clipped<'_, S> {
     fn eval<R: Real>(&self, x: R, y: R, z: R) -> R {
         let walls = self.walls(&x, &y, &z);

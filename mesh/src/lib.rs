@@ -8,7 +8,8 @@
 //! - [`octree`]: cells whose range of `f` (the arithmetic's cell form) excludes 0 are
 //!   dropped; a leaf whose range holds 0 while its corners agree is probed below the
 //!   leaf level for thin features, within a budget, and the leaf level is raised where
-//!   one is found (within a work limit, [`RISE_WORK`]); [`exclusion`]: the tighter
+//!   one is found (within a work limit, [`RISE_WORK`], and a smaller one,
+//!   [`PARTIAL_RISE_WORK`], for a rise short of that level); [`exclusion`]: the tighter
 //!   tests a probe puts each sub-cell to first (interval arithmetic, the mean value
 //!   form, the monotone reduction);
 //! - [`edge_roots`]: each sign-changing edge's crossing by range-based root isolation,
@@ -144,9 +145,17 @@ const CONTOUR_SHARE: f64 = 0.85;
 
 /// The leaf level rises for thin features only while the contouring's estimated work,
 /// surface cells times the shape's instructions per evaluation, stays within this
-/// (about a second on one core): small meshes of short formulas refine freely, long
-/// tapes keep the depth asked for and report what they leave.
+/// (seconds: a rotated cube's rise from level 5 to 9, about 560,000 surface cells of
+/// a 30-instruction formula, takes some 6 s on two cores): small meshes of short
+/// formulas refine freely, long tapes keep the depth asked for and report what they
+/// leave.
 pub const RISE_WORK: u64 = 1 << 24;
+
+/// The work limit of a rise short of the level the features ask for
+/// ([`RISE_WORK`] is that of a rise to it): the uniform rise multiplies the whole
+/// mesh's work by four a level while the deepest features stay unresolved, so it is
+/// held to a sixteenth of the limit, the cost of two levels fewer.
+pub const PARTIAL_RISE_WORK: u64 = RISE_WORK >> 4;
 
 /// The instructions per evaluation assumed for a shape that is not a tape.
 pub const SHAPE_INSTRUCTIONS: u64 = 32;
@@ -595,12 +604,20 @@ fn search<A: Arithmetic, S: Shape>(
             .tape_len()
             .map_or(SHAPE_INSTRUCTIONS, |n| n.max(1) as u64);
         // Surface cells grow four-fold per level: the deepest level within the limits.
-        let fits = |l: u32| {
+        let fits = |l: u32, work: u64| {
             let grown = cells.saturating_mul(1u64 << (2 * (l - level)));
             let bytes = grown.saturating_mul(BYTES_PER_CELL);
-            opts.memory_limit.is_none_or(|m| bytes <= m) && grown.saturating_mul(cost) <= RISE_WORK
+            opts.memory_limit.is_none_or(|m| bytes <= m) && grown.saturating_mul(cost) <= work
         };
-        let next = (level + 1..=d.needs).rev().find(|&l| fits(l));
+        // The level the features ask for within the work limit; a level short of it
+        // (which leaves them unresolved all the same) within a sixteenth of it only.
+        let next = if d.needs > level && fits(d.needs, RISE_WORK) {
+            Some(d.needs)
+        } else {
+            (level + 1..d.needs)
+                .rev()
+                .find(|&l| fits(l, PARTIAL_RISE_WORK))
+        };
         if let Some(next) = next {
             stats.level_wanted = stats.level_wanted.max(d.needs);
             level = next;

@@ -24,6 +24,7 @@
 
 use super::qef::Qef;
 use glam::DVec3;
+use rayon::prelude::*;
 use rustc_hash::{FxHashMap, FxHashSet};
 
 /// Levels above the leaves that groups may grow to (a vertex for up to `8^3` leaves).
@@ -56,13 +57,39 @@ pub fn merge(
     let mut w = Work::new(m);
     for up in 1..=MAX_LEVELS.min(leaf) {
         let level = leaf - up;
-        for group in w.groups(up) {
-            let coarse = w.cells[group[0] as usize].map(|x| x >> up);
-            let (lo, hi) = vertex_box(level, coarse);
-            w.try_collapse(&group, lo, hi, max_error);
+        let groups = w.groups(up);
+        let limits: Vec<(DVec3, DVec3)> = groups
+            .iter()
+            .map(|g| vertex_box(level, w.cells[g[0] as usize].map(|x| x >> up)))
+            .collect();
+        // Each group's collapse planned against the mesh as the level starts, in
+        // parallel; then applied in order, planned again where an earlier collapse of
+        // this level changed a member's triangles (the plan reads nothing else).
+        let plans: Vec<Option<Plan>> = groups
+            .par_iter()
+            .zip(&limits)
+            .map(|(g, &(lo, hi))| w.plan(g, lo, hi, max_error))
+            .collect();
+        let mut dirty = vec![false; w.pos.len()];
+        for ((g, &(lo, hi)), plan) in groups.iter().zip(&limits).zip(plans) {
+            let plan = if g.iter().any(|&v| dirty[v as usize]) {
+                w.plan(g, lo, hi, max_error)
+            } else {
+                plan
+            };
+            if let Some(p) = plan {
+                w.apply(g, p, &mut dirty);
+            }
         }
     }
     w.finish()
+}
+
+/// A group's collapse: the disk it replaces, the new vertex and its QEF.
+struct Plan {
+    disk: Disk,
+    w: DVec3,
+    q: Qef,
 }
 
 /// The mesh being merged: positions, QEFs, live triangles and each vertex's triangles.
@@ -115,8 +142,8 @@ impl Work {
         let mut cells: Vec<_> = by_cell.into_iter().filter(|(_, g)| g.len() > 1).collect();
         cells.sort_unstable_by_key(|(c, _)| *c);
         cells
-            .into_iter()
-            .flat_map(|(_, g)| self.pieces(&g))
+            .into_par_iter()
+            .flat_map_iter(|(_, g)| self.pieces(&g))
             .filter(|g| g.len() > 1)
             .collect()
     }
@@ -151,24 +178,24 @@ impl Work {
         out
     }
 
-    /// Collapses `group` into one vertex in `[lo, hi]` if that keeps the mesh a
+    /// The collapse of `group` into one vertex in `[lo, hi]`, if that keeps the mesh a
     /// manifold of the same topology, within `max_error` of the group's planes and
-    /// without folds.
-    fn try_collapse(&mut self, group: &[u32], lo: DVec3, hi: DVec3, max_error: f64) {
-        let members: FxHashSet<u32> = group.iter().copied().collect();
-        let Some(disk) = self.disk(&members) else {
-            return;
-        };
+    /// without folds. Reads the members' triangles (and their vertices) only.
+    fn plan(&self, group: &[u32], lo: DVec3, hi: DVec3, max_error: f64) -> Option<Plan> {
+        // The error first: it rejects most groups of a curved surface, and costs less
+        // than the disk.
         let mut q = Qef::default();
         for &v in group {
             q.merge(&self.qefs[v as usize]);
         }
         let w = q.solve(lo, hi);
         let error = q.residual(w);
-        if error.is_nan() || error > max_error * max_error || !self.unfolded(&disk, w) {
-            return;
+        if error.is_nan() || error > max_error * max_error {
+            return None;
         }
-        self.apply(group, disk, w, q);
+        let members: FxHashSet<u32> = group.iter().copied().collect();
+        let disk = self.disk(&members)?;
+        self.unfolded(&disk, w).then_some(Plan { disk, w, q })
     }
 
     /// The disk of triangles around `members`, if it is one (see the module doc).
@@ -231,12 +258,14 @@ impl Work {
         })
     }
 
-    /// Replaces the disk by a fan around the first member, moved to `w`.
-    fn apply(&mut self, group: &[u32], disk: Disk, w: DVec3, q: Qef) {
-        for &t in &disk.tris {
+    /// Replaces the disk by a fan around the first member, moved to `w`; marks in
+    /// `dirty` every vertex whose triangles change.
+    fn apply(&mut self, group: &[u32], p: Plan, dirty: &mut [bool]) {
+        for &t in &p.disk.tris {
             self.tri_live[t as usize] = false;
             for v in self.tris[t as usize] {
                 self.star[v as usize].retain(|&s| s != t);
+                dirty[v as usize] = true;
             }
         }
         let keep = group[0];
@@ -244,14 +273,15 @@ impl Work {
             self.live[v as usize] = false;
             self.removed += 1;
         }
-        self.pos[keep as usize] = w;
-        self.qefs[keep as usize] = q;
-        for (x, y, _) in disk.link {
+        self.pos[keep as usize] = p.w;
+        self.qefs[keep as usize] = p.q;
+        for (x, y, _) in p.disk.link {
             let t = self.tris.len() as u32;
             self.tris.push([keep, x, y]);
             self.tri_live.push(true);
             for v in [keep, x, y] {
                 self.star[v as usize].push(t);
+                dirty[v as usize] = true;
             }
         }
     }

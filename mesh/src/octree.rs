@@ -31,26 +31,31 @@
 //! so these checks are bounded by the mesh's size on their own and take nothing from
 //! the probes' budget (nor leave cells unresolved).
 //!
-//! Every [`SPECIALISE_EVERY`] levels the shape is specialised to the cell
-//! ([`Shape::specialise`], sign-only) and the shorter shape serves the cell's subtree's
-//! range tests. Point values (corner signs, finer lattices) use each cell's value-exact
-//! tape ([`super::cell_tape`]), specialised at every level from its parent's, which
-//! each leaf kept for contouring hands on ([`Descent::tapes`]).
+//! The shape is specialised to every cell (sign-only): the cube by
+//! [`Shape::specialise`], every cell below from the interval evaluation of its
+//! parent's eight sub-cells in one batch ([`Shape::eval_boxes_traced`], then
+//! [`Shape::specialise_traced`] per sub-cell, without evaluating it again); the
+//! shorter shape serves the cell's subtree's range tests. The levels above the tasks'
+//! (level 3) are searched once ([`Octree::tops`]), so each task starts from its own
+//! cell's tape. Point values (corner signs, finer lattices) use each cell's
+//! value-exact tape ([`super::cell_tape`]), specialised at every level from its
+//! parent's, which each leaf kept for contouring hands on ([`Descent::tapes`]).
 
 use super::cell_tape::{specialise_to, tape, CellTape};
 use super::certificate::{cell_gradient, certifies, meet};
 use super::consistency::finer_topology;
 use super::exclusion::{gradient_verdict, interval_excludes, Test, Verdict};
-use super::grid::{cell_inputs, corner_mask, corner_of, crosses, Clipped, Grid};
+use super::grid::{
+    cell_inputs, corner_mask, corner_of, corner_offset, crosses, inside_batch, Clipped, Grid,
+};
 use arith_core::{Arithmetic, Range};
-use model_ir::arith::arith_ia::IaArith;
+use glam::DVec3;
+use model_ir::arith::arith_ia::{IaArith, Interval};
 use model_ir::shape::{Aabb, Shape};
 use model_ir::shape_batch::Batch;
+use model_ir::Trace;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
-
-/// Specialise the shape to a cell every this many levels.
-pub const SPECIALISE_EVERY: u32 = 1;
 
 /// Sub-cells a probe evaluates at most per leaf.
 pub const PROBE_BUDGET: u32 = 256;
@@ -63,6 +68,25 @@ pub const PROBE_PER_CELL: u64 = 4;
 
 /// Cells are handed to threads as the subtrees below this level.
 const TASK_LEVEL: u32 = 3;
+
+/// A task's buffers for [`Octree::kid_tapes`], kept from cell to cell.
+#[derive(Default)]
+struct Scratch {
+    /// The sub-cells' boxes, per axis.
+    boxes: [Vec<Interval>; 3],
+    /// Their ranges.
+    out: Vec<Interval>,
+    /// What their evaluation recorded for specialisation.
+    trace: Trace,
+}
+
+/// A cell where a task starts ([`Octree::tops`]).
+struct Top<S> {
+    c: [u32; 3],
+    /// Its sign tape: an index into the tapes built above it, `None` for the shape.
+    tape: Option<usize>,
+    value: CellTape<S>,
+}
 
 /// What the search found.
 #[derive(Clone, Debug)]
@@ -197,16 +221,19 @@ impl<S: Shape> Octree<'_, S> {
     /// are [`Octree::tasks`] of them).
     pub fn search<A: Arithmetic>(&self, done: &(dyn Fn(u64) + Sync)) -> Descent<S> {
         let top = self.level.min(TASK_LEVEL);
-        let n = 1u32 << top;
-        let tasks: Vec<[u32; 3]> = (0..n * n * n)
-            .map(|i| [i % n, i / n % n, i / (n * n)])
-            .collect();
+        let mut all = Descent {
+            needs: self.level,
+            ..Descent::default()
+        };
+        let (tapes, tasks) = self.tops::<A>(top, &mut all, done);
         let parts: Vec<Descent<S>> = tasks
             .par_iter()
-            .map(|&c| {
+            .map(|t| {
                 let mut d = Descent::default();
                 if !self.cancelled() {
-                    self.node::<A>(top, c, &mut d);
+                    let shape = t.tape.map_or(self.shape, |i| &tapes[i]);
+                    let mut sc = Scratch::default();
+                    self.crossing::<A>(shape, &t.value, top, t.c, &mut d, &mut sc);
                 } else {
                     d.cancelled = true;
                 }
@@ -214,15 +241,78 @@ impl<S: Shape> Octree<'_, S> {
                 d
             })
             .collect();
-        let mut all = Descent {
-            needs: self.level,
-            ..Descent::default()
-        };
         for p in parts {
             all.merge(p);
         }
         all.cancelled |= self.cancelled();
         all
+    }
+
+    /// The cells at level `top` whose range holds 0, with their tapes, from the cube
+    /// down as below it (each level's sign tapes from its parent's batch), in the
+    /// order of their index `x + n y + n^2 z`; the tapes built on the way (which the
+    /// cells' `tape` indexes). `done` is told of the tasks pruned above `top`.
+    fn tops<A: Arithmetic>(
+        &self,
+        top: u32,
+        d: &mut Descent<S>,
+        done: &(dyn Fn(u64) + Sync),
+    ) -> (Vec<S>, Vec<Top<S>>) {
+        let mut tapes = Vec::new();
+        d.visited += 1;
+        let b = self.grid.cell_box(0, [0; 3]);
+        if !self.may_cross::<A>(self.shape, &b) {
+            d.pruned += 1;
+            done(1 << (3 * top));
+            return (tapes, Vec::new());
+        }
+        let special = self
+            .shape
+            .specialises()
+            .then(|| self.shape.specialise(&[cell_inputs::<A::Cell>(&b)]))
+            .flatten();
+        d.specialised += special.is_some() as u64;
+        let tape = special.map(|s| {
+            tapes.push(s);
+            tapes.len() - 1
+        });
+        let value = specialise_to(self.shape, &None, &b);
+        let mut cells = vec![Top {
+            c: [0; 3],
+            tape,
+            value,
+        }];
+        let mut sc = Scratch::default();
+        for level in 0..top {
+            let mut next = Vec::new();
+            for cell in cells {
+                let shape = cell.tape.map_or(self.shape, |i| &tapes[i]);
+                let kids = self.kids::<A>(shape, level, cell.c, d, &mut sc);
+                done((8 - kids.len() as u64) << (3 * (top - level - 1)));
+                let mut built = Vec::new();
+                for (k, t) in kids {
+                    let kv = if level + 1 == self.level {
+                        cell.value.clone()
+                    } else {
+                        specialise_to(self.shape, &cell.value, &self.grid.cell_box(level + 1, k))
+                    };
+                    built.push((k, t, kv));
+                }
+                for (k, t, value) in built {
+                    let tape = match t {
+                        Some(t) => {
+                            tapes.push(t);
+                            Some(tapes.len() - 1)
+                        }
+                        None => cell.tape,
+                    };
+                    next.push(Top { c: k, tape, value });
+                }
+            }
+            cells = next;
+        }
+        cells.sort_unstable_by_key(|t| [t.c[2], t.c[1], t.c[0]]);
+        (tapes, cells)
     }
 
     /// How many subtrees [`Octree::search`] hands to threads.
@@ -252,26 +342,11 @@ impl<S: Shape> Octree<'_, S> {
         corner_mask(value, &self.domain, &self.grid, level, c)
     }
 
-    /// Visits cell `c` at `level` (the top of a task's subtree).
-    fn node<A: Arithmetic>(&self, level: u32, c: [u32; 3], d: &mut Descent<S>) {
-        if d.cancelled || self.cancelled() {
-            d.cancelled = true;
-            return;
-        }
-        d.visited += 1;
-        let b = self.grid.cell_box(level, c);
-        if !self.may_cross::<A>(self.shape, &b) {
-            d.pruned += 1;
-            return;
-        }
-        let value = specialise_to(self.shape, &None, &b);
-        self.crossing::<A>(self.shape, &value, level, c, d);
-    }
-
-    /// A cell whose range holds 0, with its sign tape `shape` (for range tests) and
-    /// its value tape `value`: a leaf is kept or probed, any other cell's eight
-    /// children are evaluated in one batch ([`Batch`]) and those whose range holds 0
-    /// visited in turn, each with its own value tape.
+    /// A cell whose range holds 0, with its sign tape `shape` (specialised to it, for
+    /// range tests) and its value tape `value`: a leaf is kept or probed, any other
+    /// cell's eight children are evaluated in one batch ([`Batch`]) and those whose
+    /// range holds 0 visited in turn, each with its own sign tape ([`Octree::kid_tapes`])
+    /// and value tape.
     fn crossing<A: Arithmetic>(
         &self,
         shape: &S,
@@ -279,47 +354,105 @@ impl<S: Shape> Octree<'_, S> {
         level: u32,
         c: [u32; 3],
         d: &mut Descent<S>,
+        sc: &mut Scratch,
     ) {
-        let b = self.grid.cell_box(level, c);
-        let special = (level.checked_rem(SPECIALISE_EVERY) == Some(0) && shape.specialises())
-            .then(|| shape.specialise(&[cell_inputs::<A::Cell>(&b)]))
-            .flatten();
-        d.specialised += special.is_some() as u64;
-        let sub = special.as_ref().unwrap_or(shape);
         if level == self.level {
-            self.leaf::<A>(sub, value, c, d);
+            self.leaf::<A>(shape, value, c, d);
             return;
         }
-        let kids: [[u32; 3]; 8] = core::array::from_fn(|i| child(c, i));
-        let clipped = Clipped {
-            inner: sub,
-            domain: self.domain,
-        };
-        let mut ranges: [Option<A::Cell>; 8] = Default::default();
-        Batch::<A::CellPack>::default().eval(
-            &clipped,
-            &[0, 1, 2, 3, 4, 5, 6, 7],
-            |i| cell_inputs(&self.grid.cell_box(level + 1, kids[i])),
-            &mut ranges,
-        );
-        for (k, f) in kids.into_iter().zip(ranges) {
+        let kids = self.kids::<A>(shape, level, c, d, sc);
+        for (k, t) in kids {
             if d.cancelled || self.cancelled() {
                 d.cancelled = true;
                 return;
             }
-            d.visited += 1;
-            if !f.is_some_and(|f| f.contains_zero()) {
-                d.pruned += 1;
-                continue;
-            }
-            // A leaf specialises only once its corners show a sign change.
+            // A leaf specialises its value tape only once its corners show a sign
+            // change.
             let kv = if level + 1 == self.level {
                 value.clone()
             } else {
                 specialise_to(self.shape, value, &self.grid.cell_box(level + 1, k))
             };
-            self.crossing::<A>(sub, &kv, level + 1, k, d);
+            self.crossing::<A>(t.as_ref().unwrap_or(shape), &kv, level + 1, k, d, sc);
         }
+    }
+
+    /// The sub-cells of cell `c` at `level` (sign tape `shape`) whose range holds 0,
+    /// each with its own sign tape (`None`: `shape`'s): the eight evaluated in one
+    /// interval batch first (traced for their tapes, [`Octree::kid_tapes`]), the
+    /// cheapest, then in the arithmetic's cell form ([`Batch`]) where that holds 0.
+    fn kids<A: Arithmetic>(
+        &self,
+        shape: &S,
+        level: u32,
+        c: [u32; 3],
+        d: &mut Descent<S>,
+        sc: &mut Scratch,
+    ) -> Vec<([u32; 3], Option<S>)> {
+        let kids: [[u32; 3]; 8] = core::array::from_fn(|i| child(c, i));
+        let boxes: [Aabb; 8] = kids.map(|k| self.grid.cell_box(level + 1, k));
+        let near = self.interval_batch(shape, &boxes, sc);
+        let group: Vec<usize> = (0..8).filter(|&i| near[i]).collect();
+        let clipped = Clipped {
+            inner: shape,
+            domain: self.domain,
+        };
+        let mut ranges: [Option<A::Cell>; 8] = Default::default();
+        Batch::<A::CellPack>::default().eval(
+            &clipped,
+            &group,
+            |i| cell_inputs(&boxes[i]),
+            &mut ranges,
+        );
+        d.visited += 8;
+        let live: Vec<usize> = group
+            .into_iter()
+            .filter(|&i| ranges[i].as_ref().is_some_and(|f| f.contains_zero()))
+            .collect();
+        d.pruned += 8 - live.len() as u64;
+        let tapes = self.kid_tapes(shape, &live, d, sc);
+        live.iter().map(|&i| kids[i]).zip(tapes).collect()
+    }
+
+    /// Whether the interval range of `shape` clipped to the domain holds 0 over each of
+    /// `boxes`: one batch ([`Shape::eval_boxes_traced`]), whose trace
+    /// [`Octree::kid_tapes`] reads.
+    fn interval_batch(&self, shape: &S, boxes: &[Aabb; 8], sc: &mut Scratch) -> [bool; 8] {
+        let inputs = boxes.map(|b| cell_inputs::<Interval>(&b));
+        for (a, v) in sc.boxes.iter_mut().enumerate() {
+            v.clear();
+            v.extend(inputs.iter().map(|r| r[a]));
+        }
+        let [x, y, z] = &sc.boxes;
+        shape.eval_boxes_traced(x, y, z, &mut sc.out, &mut sc.trace);
+        let clipped = Clipped {
+            inner: shape,
+            domain: self.domain,
+        };
+        core::array::from_fn(|i| {
+            let [x, y, z] = &inputs[i];
+            clipped.clip(sc.out[i], x, y, z).contains_zero()
+        })
+    }
+
+    /// The sign tapes of the sub-cells `kids` (indices of the batch
+    /// [`Octree::interval_batch`] evaluated last with `shape`): each specialised from
+    /// that evaluation's trace ([`Shape::specialise_traced`]: the decisions
+    /// [`Shape::specialise`] takes over that box alone, without evaluating it again).
+    /// `None` where nothing shortens `shape`.
+    fn kid_tapes(
+        &self,
+        shape: &S,
+        kids: &[usize],
+        d: &mut Descent<S>,
+        sc: &mut Scratch,
+    ) -> [Option<S>; 8] {
+        let mut tapes: [Option<S>; 8] = Default::default();
+        for (t, &i) in tapes.iter_mut().zip(kids) {
+            *t = shape.specialise_traced(&mut sc.trace, i);
+            d.specialised += t.is_some() as u64;
+        }
+        tapes
     }
 
     /// A leaf whose range holds 0 (`value`: a value tape valid over it): kept, with its
@@ -403,23 +536,34 @@ impl<S: Shape> Octree<'_, S> {
             d.unresolved(&b);
             return false;
         }
+        let l = level + 1;
+        let kids: [[u32; 3]; 8] = core::array::from_fn(|i| child(c, i));
+        let boxes: [Aabb; 8] = kids.map(|k| self.grid.cell_box(l, k));
+        // The cheapest test first, over the eight in one batch; the arithmetic's range
+        // comes with the gradient's ranges in a sub-cell's own probe. The corner signs
+        // of the eight, a 3^3 lattice, once one is needed.
+        let near = interval_holds_zero(shape, &self.domain, &boxes);
+        let mut signs = None;
         for i in 0..8 {
-            let (l, k) = (level + 1, child(c, i));
             if *budget == 0 {
-                d.unresolved(&self.grid.cell_box(l, k));
+                d.unresolved(&boxes[i]);
                 continue;
             }
             *budget -= 1;
             d.probed += 1;
-            // The cheapest test first; the arithmetic's range comes with the gradient's
-            // ranges in the sub-cell's own probe.
-            let kb = self.grid.cell_box(l, k);
-            if interval_excludes(shape, &self.domain, &kb) {
+            if !near[i] {
                 d.excluded += 1;
                 continue;
             }
-            let m = self.corner_mask(value, l, k, d);
-            if crosses(m) || self.probe::<A>(shape, value, l, k, d, budget) {
+            let s = signs.get_or_insert_with(|| {
+                d.point_evals += 27;
+                sub_lattice(value, &self.domain, &self.grid, l, c)
+            });
+            let m = (0..8).fold(0u8, |m, j| {
+                let [x, y, z] = corner_of(corner_offset(i), j);
+                m | (s[(x + 3 * y + 9 * z) as usize] as u8) << j
+            });
+            if crosses(m) || self.probe::<A>(shape, value, l, kids[i], d, budget) {
                 d.needs = d.needs.max(l);
                 return true;
             }
@@ -444,6 +588,40 @@ impl<S: Shape> Octree<'_, S> {
             d.deeper.push((level + k, c));
         }
     }
+}
+
+/// Whether the interval range of `shape` clipped to `domain` holds 0 over each of
+/// `boxes` (one batch evaluation).
+fn interval_holds_zero<S: Shape>(shape: &S, domain: &Aabb, boxes: &[Aabb; 8]) -> [bool; 8] {
+    let clipped = Clipped {
+        inner: shape,
+        domain: *domain,
+    };
+    let inputs = boxes.map(|b| cell_inputs::<Interval>(&b));
+    let [x, y, z]: [Vec<Interval>; 3] =
+        core::array::from_fn(|a| inputs.iter().map(|r| r[a]).collect());
+    let mut out = Vec::with_capacity(8);
+    clipped.eval_batch(&x, &y, &z, &mut out);
+    core::array::from_fn(|i| out[i].contains_zero())
+}
+
+/// The signs (inside: `f >= 0`) of `shape` clipped to `domain` at the `3^3` corners of
+/// the eight sub-cells at `level` of cell `c` (one level up), `x + 3 y + 9 z`: one
+/// batch, the values [`corner_mask`] gives each sub-cell.
+fn sub_lattice<S: Shape>(
+    shape: &S,
+    domain: &Aabb,
+    grid: &Grid,
+    level: u32,
+    c: [u32; 3],
+) -> [bool; 27] {
+    let points: [DVec3; 27] = core::array::from_fn(|i| {
+        let o = [i % 3, i / 3 % 3, i / 9].map(|v| v as u32);
+        grid.point(level, [0, 1, 2].map(|a| 2 * c[a] + o[a]))
+    });
+    let mut signs = Vec::with_capacity(27);
+    inside_batch(shape, domain, &points, &mut signs);
+    core::array::from_fn(|i| signs[i])
 }
 
 /// Whether `g` (the gradient's ranges over a cell) has one sign on every axis, with

@@ -1,8 +1,9 @@
 //! Self-intersections of a triangle mesh, counted over a bounding volume hierarchy.
 //!
 //! A small AABB tree (median splits along the longest axis of the centroids' box) is
-//! built over the triangles; each triangle queries it for the triangles whose boxes
-//! overlap its own and tests each pair once. A hand-written tree rather than `bvh` or
+//! built over the triangles and traversed against itself, each pair of subtrees whose
+//! boxes overlap compared once (in parallel near the root), down to the pairs of
+//! triangles whose boxes overlap, each tested once. A hand-written tree rather than `bvh` or
 //! `parry3d`: this is all the mesher needs, and it keeps their dependency trees out of
 //! the build.
 //!
@@ -25,30 +26,30 @@ use rayon::prelude::*;
 /// Triangles per leaf of the tree.
 const LEAF: usize = 4;
 
+/// Subtrees over more triangles than this build their halves in parallel.
+const PARALLEL_BUILD: usize = 4096;
+
+/// Levels of the tree whose halves are compared in parallel.
+const PARALLEL_LEVELS: u32 = 8;
+
 /// The number of intersecting pairs of triangles of `mesh`.
 pub fn count(mesh: &Mesh) -> u64 {
     let tris: Vec<[DVec3; 3]> = mesh
         .triangles
-        .iter()
+        .par_iter()
         .map(|t| t.map(|i| DVec3::from(mesh.vertices[i as usize])))
         .collect();
-    let boxes: Vec<(DVec3, DVec3)> = tris.iter().map(tri_box).collect();
+    let boxes: Vec<(DVec3, DVec3)> = tris.par_iter().map(tri_box).collect();
     let bvh = Bvh::build(&boxes);
-    (0..tris.len())
-        .into_par_iter()
-        .map_init(Vec::new, |stack, i| {
-            let mut n = 0u64;
-            bvh.query(&boxes[i], stack, &mut |j| {
-                if j > i
-                    && overlap(&boxes[i], &boxes[j])
-                    && intersect(&mesh.triangles[i], &tris[i], &mesh.triangles[j], &tris[j])
-                {
-                    n += 1;
-                }
-            });
-            n
-        })
-        .sum()
+    if bvh.nodes.is_empty() {
+        return 0;
+    }
+    let test = |i: usize, j: usize| {
+        let (i, j) = (i.min(j), i.max(j));
+        (overlap(&boxes[i], &boxes[j])
+            && intersect(&mesh.triangles[i], &tris[i], &mesh.triangles[j], &tris[j])) as u64
+    };
+    bvh.pairs(0, 0, PARALLEL_LEVELS, &test)
 }
 
 fn tri_box(t: &[DVec3; 3]) -> (DVec3, DVec3) {
@@ -74,73 +75,171 @@ struct Bvh {
 
 impl Bvh {
     fn build(boxes: &[(DVec3, DVec3)]) -> Bvh {
-        let mut b = Bvh {
-            nodes: Vec::with_capacity(2 * boxes.len() / LEAF + 1),
-            order: (0..boxes.len()).collect(),
+        let mut order: Vec<usize> = (0..boxes.len()).collect();
+        let centres: Vec<DVec3> = boxes.par_iter().map(|b| (b.0 + b.1) * 0.5).collect();
+        let nodes = if boxes.is_empty() {
+            Vec::new()
+        } else {
+            subtree(&(boxes, &centres), &mut order, 0)
         };
-        if !boxes.is_empty() {
-            b.split(boxes, 0, boxes.len());
-        }
-        b
+        Bvh { nodes, order }
     }
 
-    /// Builds the node over `order[start..end]`, returning its index.
-    fn split(&mut self, boxes: &[(DVec3, DVec3)], start: usize, end: usize) -> usize {
-        let bounds = self.order[start..end]
-            .iter()
-            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &i| {
-                (lo.min(boxes[i].0), hi.max(boxes[i].1))
-            });
-        let id = self.nodes.len();
-        self.nodes.push(Node {
-            bounds,
-            kids: (start, end),
+    /// The sum of `test(i, j)` over the pairs of distinct triangles, one of node `a`
+    /// and one of node `b` (both of it where `a == b`), whose nodes' boxes overlap:
+    /// every pair once (a dual traversal of the tree, so each pair of subtrees is
+    /// compared once, where a query per triangle would compare it from both sides).
+    /// The first `par` levels run their halves in parallel.
+    fn pairs<F: Fn(usize, usize) -> u64 + Sync>(
+        &self,
+        a: usize,
+        b: usize,
+        par: u32,
+        test: &F,
+    ) -> u64 {
+        let (na, nb) = (&self.nodes[a], &self.nodes[b]);
+        let join = |x: &(dyn Fn() -> u64 + Sync), y: &(dyn Fn() -> u64 + Sync)| {
+            if par > 0 {
+                let (p, q) = rayon::join(x, y);
+                p + q
+            } else {
+                x() + y()
+            }
+        };
+        let down = par.saturating_sub(1);
+        if a == b {
+            if na.leaf {
+                let s = &self.order[na.kids.0..na.kids.1];
+                return (0..s.len())
+                    .flat_map(|i| (i + 1..s.len()).map(move |j| (i, j)))
+                    .map(|(i, j)| test(s[i], s[j]))
+                    .sum();
+            }
+            let (l, r) = na.kids;
+            return join(
+                &|| {
+                    join(&|| self.pairs(l, l, down, test), &|| {
+                        self.pairs(r, r, down, test)
+                    })
+                },
+                &|| self.pairs(l, r, down, test),
+            );
+        }
+        if !overlap(&na.bounds, &nb.bounds) {
+            return 0;
+        }
+        match (na.leaf, nb.leaf) {
+            (true, true) => {
+                let (sa, sb) = (
+                    &self.order[na.kids.0..na.kids.1],
+                    &self.order[nb.kids.0..nb.kids.1],
+                );
+                sa.iter()
+                    .flat_map(|&i| sb.iter().map(move |&j| (i, j)))
+                    .map(|(i, j)| test(i, j))
+                    .sum()
+            }
+            (false, _) => {
+                let (l, r) = na.kids;
+                join(&|| self.pairs(l, b, down, test), &|| {
+                    self.pairs(r, b, down, test)
+                })
+            }
+            (true, false) => {
+                let (l, r) = nb.kids;
+                join(&|| self.pairs(a, l, down, test), &|| {
+                    self.pairs(a, r, down, test)
+                })
+            }
+        }
+    }
+}
+
+/// The nodes of the tree over `order` (positions `base..` of the whole order), its
+/// root first, children's indices into the returned nodes: the halves of subtrees
+/// over more than [`PARALLEL_BUILD`] triangles are built in parallel.
+fn subtree(boxes: &Boxes, order: &mut [usize], base: usize) -> Vec<Node> {
+    if order.len() <= PARALLEL_BUILD {
+        let mut nodes = Vec::with_capacity(2 * order.len() / LEAF + 1);
+        split(boxes, order, base, &mut nodes);
+        return nodes;
+    }
+    let (bounds, mid) = partition(boxes, order);
+    let (lo, hi) = order.split_at_mut(mid);
+    let (l, r) = rayon::join(
+        || subtree(boxes, lo, base),
+        || subtree(boxes, hi, base + mid),
+    );
+    let mut nodes = Vec::with_capacity(1 + l.len() + r.len());
+    nodes.push(Node {
+        bounds,
+        kids: (1, 1 + l.len()),
+        leaf: false,
+    });
+    let right = nodes[0].kids.1;
+    for (part, by) in [(l, 1), (r, right)] {
+        nodes.extend(part.into_iter().map(|mut n| {
+            if !n.leaf {
+                n.kids = (n.kids.0 + by, n.kids.1 + by);
+            }
+            n
+        }));
+    }
+    nodes
+}
+
+/// Builds the node over `order` (positions `base..` of the whole order) into `nodes`,
+/// returning its index.
+fn split(boxes: &Boxes, order: &mut [usize], base: usize, nodes: &mut Vec<Node>) -> usize {
+    let id = nodes.len();
+    if order.len() <= LEAF {
+        nodes.push(Node {
+            bounds: bounds(boxes, order),
+            kids: (base, base + order.len()),
             leaf: true,
         });
-        if end - start <= LEAF {
-            return id;
-        }
-        let centre = |i: usize| (boxes[i].0 + boxes[i].1) * 0.5;
-        let (clo, chi) = self.order[start..end]
-            .iter()
-            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &i| {
-                (lo.min(centre(i)), hi.max(centre(i)))
-            });
-        let axis = (chi - clo).max_position();
-        let mid = (start + end) / 2;
-        self.order[start..end].select_nth_unstable_by(mid - start, |&a, &b| {
-            centre(a)[axis].total_cmp(&centre(b)[axis])
-        });
-        let l = self.split(boxes, start, mid);
-        let r = self.split(boxes, mid, end);
-        self.nodes[id].kids = (l, r);
-        self.nodes[id].leaf = false;
-        id
+        return id;
     }
+    let (bounds, mid) = partition(boxes, order);
+    nodes.push(Node {
+        bounds,
+        kids: (0, 0),
+        leaf: false,
+    });
+    let (lo, hi) = order.split_at_mut(mid);
+    let l = split(boxes, lo, base, nodes);
+    let r = split(boxes, hi, base + mid, nodes);
+    nodes[id].kids = (l, r);
+    id
+}
 
-    /// Calls `hit` with every triangle of the leaves whose boxes overlap `b` (`stack`:
-    /// scratch space, reused between queries).
-    fn query(&self, b: &(DVec3, DVec3), stack: &mut Vec<usize>, hit: &mut impl FnMut(usize)) {
-        if self.nodes.is_empty() {
-            return;
-        }
-        stack.clear();
-        stack.push(0);
-        while let Some(n) = stack.pop() {
-            let node = &self.nodes[n];
-            if !overlap(&node.bounds, b) {
-                continue;
-            }
-            if node.leaf {
-                for &i in &self.order[node.kids.0..node.kids.1] {
-                    hit(i);
-                }
-            } else {
-                stack.push(node.kids.0);
-                stack.push(node.kids.1);
-            }
-        }
-    }
+/// The triangles' boxes and the boxes' centres.
+type Boxes<'a> = (&'a [(DVec3, DVec3)], &'a [DVec3]);
+
+/// The box around the triangles of `order`.
+fn bounds(boxes: &Boxes, order: &[usize]) -> (DVec3, DVec3) {
+    order
+        .iter()
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &i| {
+            (lo.min(boxes.0[i].0), hi.max(boxes.0[i].1))
+        })
+}
+
+/// The box around the triangles of `order`, and `order` split at its middle along the
+/// longest axis of their centres' box (the lower half first): returns the middle.
+fn partition(boxes: &Boxes, order: &mut [usize]) -> ((DVec3, DVec3), usize) {
+    let (b, c) = *boxes;
+    let inf = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+    let (bounds, (clo, chi)) = order.iter().fold((inf, inf), |(bb, cb), &i| {
+        (
+            (bb.0.min(b[i].0), bb.1.max(b[i].1)),
+            (cb.0.min(c[i]), cb.1.max(c[i])),
+        )
+    });
+    let axis = (chi - clo).max_position();
+    let mid = order.len() / 2;
+    order.select_nth_unstable_by(mid, |&p, &q| c[p][axis].total_cmp(&c[q][axis]));
+    (bounds, mid)
 }
 
 /// Whether triangles `a` and `b` (indices `ia`, `ib`) intersect other than in the
