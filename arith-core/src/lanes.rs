@@ -42,7 +42,7 @@ mod x86;
 
 pub use elementary::{
     cos, cos_f64, exp, exp_enclosure, exp_f64, ln, ln_enclosure, ln_f64, sin, sin_f64,
-    trig_enclosure, widen, ELEMENTARY_REL, EXP_MAX_ARG, TRIG_ABS, TRIG_MAX_ARG,
+    trig_enclosure, widen, ELEMENTARY_REL, EXP_COEFFS, EXP_MAX_ARG, TRIG_ABS, TRIG_MAX_ARG,
 };
 pub use emulated::Emulated;
 pub use wide2::Avx2;

@@ -168,8 +168,9 @@ const LN2_LO: f64 = f64::from_bits(0x3dea_39ef_3579_3c76);
 /// `1.5 * 2^52`: adding and subtracting it rounds to an integer.
 const SHIFT: f64 = 6_755_399_441_055_744.0;
 
-/// `1/k!` for `k = 13` down to `0`, rounded.
-const EXP_COEFFS: [f64; 14] = [
+/// `1/k!` for `k = 13` down to `0`, rounded: `exp`'s Taylor coefficients in Horner's
+/// order (the first 13 are those of `(e^w - 1) / w = sum_k w^k / (k + 1)!` to `w^12`).
+pub const EXP_COEFFS: [f64; 14] = [
     1.0 / 6_227_020_800.0,
     1.0 / 479_001_600.0,
     1.0 / 39_916_800.0,

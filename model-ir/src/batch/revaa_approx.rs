@@ -24,7 +24,9 @@
 
 use super::revaa::{bounds, finite, neg, select, up_abs, Form, F};
 use arith_core::affine_round::{k_lin, slack};
-use arith_core::lanes::{exp as exp_lanes, ln as ln_lanes, ln_enclosure, widen, Isa, EXP_MAX_ARG};
+use arith_core::lanes::{
+    exp as exp_lanes, ln as ln_lanes, ln_enclosure, widen, Isa, EXP_COEFFS, EXP_MAX_ARG,
+};
 use arith_core::round::{ETA, U};
 
 /// An affine approximation `alpha*x + zeta ± delta` per lane.
@@ -220,21 +222,7 @@ pub(super) fn sqrt<I: Isa, const N: usize>(s: I, x: Form<I, N>) -> (Form<I, N>, 
 }
 
 /// `1/(k + 1)!` for `k = 12` down to `0`: `(e^w - 1) / w = sum_k w^k / (k + 1)!`.
-const EXPM1_COEFFS: [f64; 13] = [
-    1.0 / 6_227_020_800.0,
-    1.0 / 479_001_600.0,
-    1.0 / 39_916_800.0,
-    1.0 / 3_628_800.0,
-    1.0 / 362_880.0,
-    1.0 / 40_320.0,
-    1.0 / 5040.0,
-    1.0 / 720.0,
-    1.0 / 120.0,
-    1.0 / 24.0,
-    1.0 / 6.0,
-    0.5,
-    1.0,
-];
+const EXPM1_COEFFS: &[f64] = EXP_COEFFS.split_at(13).0;
 
 /// The Chebyshev branch of `approx::exp` on `[a, b]`: the secant slope `alpha`, `g =
 /// e^x - alpha*x` (convex) at most its larger end and at least `alpha - alpha ln alpha`
