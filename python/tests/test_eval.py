@@ -68,7 +68,9 @@ def test_batches_are_the_scalar_paths(name, shape):
         for k in range(0, 40, 7):
             box = (tuple(lo[k]), tuple(hi[k]))
             (blo, bhi), (slo, shi) = tuple(b[k]), shape.range(box, arith=arith)
-            if arith == "ia" and lanes:
+            # Intervals' and RevAA's lanes compute exp and ln with the lanes' proven
+            # functions, not libm's: overlapping ranges, at most about twice as wide.
+            if arith in ("ia", "revaa") and lanes:
                 assert blo <= shi and slo <= bhi, (box, (blo, bhi), (slo, shi))
                 slack = 4 * np.spacing(max(abs(slo), abs(shi)))
                 assert bhi - blo <= 2 * (shi - slo) + slack, (box, (blo, bhi), (slo, shi))
